@@ -1,0 +1,126 @@
+#include "cli.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "visimp/core/errors.h"
+
+namespace visimp::app {
+
+ArgParser::ArgParser(std::string usage, std::string description, std::size_t positionals)
+    : usage_(std::move(usage)), description_(std::move(description)), expected_positionals_(positionals) {}
+
+void ArgParser::add(std::vector<OptionSpec> specs) {
+  for (auto& s : specs) specs_.push_back(std::move(s));
+}
+
+bool ArgParser::parse(const std::vector<std::string>& args) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--help" || a == "-h") {
+      std::cout << help();
+      return false;
+    }
+    if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
+      const std::size_t eq = a.find('=');
+      const std::string flag = a.substr(0, eq);
+      const OptionSpec* spec = nullptr;
+      for (const auto& s : specs_)
+        if (s.flag == flag) spec = &s;
+      if (!spec) throw UsageError("unknown option " + flag + " (see --help)");
+      if (spec->value_name.empty()) {
+        if (eq != std::string::npos) throw UsageError(flag + " takes no value");
+        spec->set("");
+      } else if (eq != std::string::npos) {
+        spec->set(a.substr(eq + 1));
+      } else {
+        if (i + 1 >= args.size()) throw UsageError(flag + " needs a value " + spec->value_name);
+        spec->set(args[++i]);
+      }
+    } else {
+      positionals_.push_back(a);  // includes "-" (stdin/stdout)
+    }
+  }
+  if (positionals_.size() != expected_positionals_)
+    throw UsageError("expected " + std::to_string(expected_positionals_) + " file argument(s), got " +
+                     std::to_string(positionals_.size()) + " (usage: " + usage_ + ")");
+  return true;
+}
+
+std::string ArgParser::help() const {
+  std::ostringstream s;
+  s << "usage: " << usage_ << "\n\n" << description_ << "\n\noptions:\n";
+  for (const auto& spec : specs_) {
+    std::string left = "  " + spec.flag + (spec.value_name.empty() ? "" : " " + spec.value_name);
+    if (left.size() < 28) left.resize(28, ' ');
+    else left += "  ";
+    s << left << spec.help;
+    if (!spec.value_name.empty() && !spec.default_text.empty()) s << " [default: " << spec.default_text << "]";
+    s << "\n";
+  }
+  s << "  --help                      show this text\n\n"
+       "\"-\" as a file means standard input/output (give --format).\n"
+       "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
+  return s.str();
+}
+
+std::vector<OptionSpec> describe_options(StreamOptions& o, bool has_output) {
+  std::vector<OptionSpec> specs = {
+      option_spec("--format", "F", o.format, "format of '-' streams: ply, obj, off or stl"),
+      option_spec("--input-format", "F", o.input_format, "input format, overriding the extension"),
+      switch_spec("--json", o.json, "print a machine-readable JSON summary"),
+  };
+  if (has_output) {
+    specs.push_back(option_spec("--output-format", "F", o.output_format, "output format, overriding the extension"));
+    specs.push_back(switch_spec("--ascii", o.ascii, "write PLY/STL as ASCII instead of binary"));
+    specs.push_back(switch_spec("--in-place", o.in_place, "allow OUT to be the input file itself"));
+  }
+  return specs;
+}
+
+namespace {
+std::optional<Format> chosen_format(const std::string& specific, const std::string& general) {
+  const std::string& name = specific.empty() ? general : specific;
+  if (name.empty()) return std::nullopt;
+  const auto f = parse_format(name);
+  if (!f) throw UsageError("unknown format '" + name + "' (use ply, obj, off or stl)");
+  return f;
+}
+}  // namespace
+
+Mesh read_input(const std::string& path, const StreamOptions& o) {
+  return read_mesh(path, chosen_format(o.input_format, o.format));
+}
+
+void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (path != "-" && input != "-" && !o.in_place && fs::exists(path, ec) && fs::equivalent(path, input, ec))
+    throw UsageError(path + ": output would overwrite the input (use --in-place to allow it)");
+  WriteOptions w;
+  w.binary = !o.ascii;
+  write_mesh(mesh, path, chosen_format(o.output_format, o.format), w);
+}
+
+ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), enabled_(::isatty(STDERR_FILENO) == 1) {}
+
+ProgressBar::~ProgressBar() {
+  if (enabled_ && last_percent_ >= 0) std::fprintf(stderr, "\r\033[K");
+}
+
+void ProgressBar::on_progress(double fraction) {
+  if (!enabled_) return;
+  const int percent = static_cast<int>(fraction * 100.0 + 0.5);
+  if (percent == last_percent_) return;
+  last_percent_ = percent;
+  const int width = 40, filled = percent * width / 100;
+  std::fprintf(stderr, "\r%s [%s%s] %3d%%", label_.c_str(), std::string(std::size_t(filled), '#').c_str(),
+               std::string(std::size_t(width - filled), ' ').c_str(), percent);
+  std::fflush(stderr);
+}
+
+}  // namespace visimp::app

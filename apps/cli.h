@@ -1,0 +1,63 @@
+// The apps' shared command-line machinery: a parser built from OptionSpecs (so --help text
+// and defaults come from the library's options structs), mesh in/out helpers honouring "-"
+// and --format, and a progress bar shown only when stderr is a terminal.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "visimp/core/mesh.h"
+#include "visimp/core/option_table.h"
+#include "visimp/io/mesh_io.h"
+#include "visimp/simplify/simplify.h"
+
+namespace visimp::app {
+
+class ArgParser {
+ public:
+  /// usage: "visimp simplify IN OUT (--target N | --ratio R | --max-error E) [options]".
+  ArgParser(std::string usage, std::string description, std::size_t positionals);
+  void add(OptionSpec spec) { specs_.push_back(std::move(spec)); }
+  void add(std::vector<OptionSpec> specs);
+  /// Parses args (after the command name). Returns false when --help was printed.
+  /// Throws UsageError for unknown flags, missing values or a wrong number of positionals.
+  bool parse(const std::vector<std::string>& args);
+  const std::vector<std::string>& positionals() const { return positionals_; }
+  std::string help() const;
+
+ private:
+  std::string usage_, description_;
+  std::size_t expected_positionals_;
+  std::vector<OptionSpec> specs_;
+  std::vector<std::string> positionals_;
+};
+
+/// Options every command that reads or writes meshes shares.
+struct StreamOptions {
+  std::string format;         // format of "-" for input and output
+  std::string input_format;   // overrides format for the input
+  std::string output_format;  // overrides format for the output
+  bool ascii = false;         // PLY/STL: write ascii instead of binary
+  bool in_place = false;      // allow OUT to be the same file as IN
+  bool json = false;          // machine-readable summary
+};
+std::vector<OptionSpec> describe_options(StreamOptions& o, bool has_output);
+
+Mesh read_input(const std::string& path, const StreamOptions& o);
+/// Refuses to overwrite `input` unless --in-place; writes atomically.
+void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o);
+
+class ProgressBar : public SimplifyObserver {
+ public:
+  explicit ProgressBar(std::string label);
+  ~ProgressBar() override;
+  void on_progress(double fraction) override;
+
+ private:
+  std::string label_;
+  bool enabled_;
+  int last_percent_ = -1;
+};
+
+}  // namespace visimp::app

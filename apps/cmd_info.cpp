@@ -1,0 +1,65 @@
+#include <iostream>
+
+#include "cli.h"
+#include "commands.h"
+#include "visimp/core/mesh_stats.h"
+#include "visimp/report/json.h"
+
+namespace visimp::app {
+
+int run_info(const Args& args) {
+  StreamOptions stream;
+  ArgParser parser("visimp info IN [--json]",
+                   "Reports counts, bounding box, components, boundary and non-manifold edges,\n"
+                   "non-manifold vertices, misoriented edges, degenerate and duplicate faces.",
+                   1);
+  parser.add(describe_options(stream, false));
+  if (!parser.parse(args)) return 0;
+  const std::string& in = parser.positionals()[0];
+  const Mesh mesh = read_input(in, stream);
+  const MeshStats s = analyze(mesh);
+  if (stream.json) {
+    JsonWriter json(std::cout);
+    json.begin_object()
+        .field("file", in)
+        .field("vertices", s.vertices)
+        .field("faces", s.faces)
+        .field("edges", s.edges)
+        .field("components", s.components)
+        .field("isolated_vertices", s.isolated_vertices)
+        .field("boundary_edges", s.boundary_edges)
+        .field("non_manifold_edges", s.non_manifold_edges)
+        .field("non_manifold_vertices", s.non_manifold_vertices)
+        .field("misoriented_edges", s.misoriented_edges)
+        .field("degenerate_faces", s.degenerate_faces)
+        .field("duplicate_faces", s.duplicate_faces)
+        .field("closed_manifold", s.closed_manifold())
+        .field("area", s.area)
+        .field("has_vertex_quality", mesh.has_vertex_quality())
+        .field("has_face_quality", mesh.has_face_quality());
+    json.key("bbox").begin_object();
+    json.key("min").begin_array().value(s.bbox.min.x).value(s.bbox.min.y).value(s.bbox.min.z).end_array();
+    json.key("max").begin_array().value(s.bbox.max.x).value(s.bbox.max.y).value(s.bbox.max.z).end_array();
+    json.field("diagonal", s.bbox.diagonal()).end_object();
+    json.end_object();
+    return 0;
+  }
+  std::cout << in << "\n"
+            << "  vertices              " << s.vertices << " (" << s.isolated_vertices << " isolated)\n"
+            << "  faces                 " << s.faces << " (" << s.degenerate_faces << " degenerate, "
+            << s.duplicate_faces << " duplicate)\n"
+            << "  edges                 " << s.edges << " (" << s.boundary_edges << " boundary, "
+            << s.non_manifold_edges << " non-manifold, " << s.misoriented_edges << " misoriented)\n"
+            << "  non-manifold vertices " << s.non_manifold_vertices << "\n"
+            << "  components            " << s.components << "\n"
+            << "  closed 2-manifold     " << (s.closed_manifold() ? "yes" : "no") << "\n"
+            << "  area                  " << s.area << "\n"
+            << "  bbox                  [" << s.bbox.min.x << ", " << s.bbox.min.y << ", " << s.bbox.min.z << "] - ["
+            << s.bbox.max.x << ", " << s.bbox.max.y << ", " << s.bbox.max.z << "], diagonal " << s.bbox.diagonal() << "\n"
+            << "  quality               " << (mesh.has_vertex_quality() ? "vertex " : "")
+            << (mesh.has_face_quality() ? "face" : "") << (mesh.has_vertex_quality() || mesh.has_face_quality() ? "" : "none")
+            << "\n";
+  return 0;
+}
+
+}  // namespace visimp::app

@@ -1,0 +1,16 @@
+// One function per `visimp` sub-command; each returns the process exit code and lets
+// exceptions reach main, which maps them to the documented exit codes.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace visimp::app {
+
+using Args = std::vector<std::string>;
+
+int run_simplify(const Args& args);
+int run_info(const Args& args);
+int run_convert(const Args& args);
+
+}  // namespace visimp::app

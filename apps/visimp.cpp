@@ -1,0 +1,58 @@
+// visimp: the command-line front end. Thin by design: parse, call the library, report.
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include "commands.h"
+#include "visimp/core/errors.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: visimp COMMAND [options]\n"
+    "\n"
+    "commands:\n"
+    "  simplify IN OUT   quadric edge-collapse simplification (QB)\n"
+    "  info IN           counts, bounding box, components, boundary and non-manifold edges\n"
+    "  convert IN OUT    change mesh format (ply, obj, off, stl)\n"
+    "\n"
+    "'visimp COMMAND --help' describes each command.\n"
+    "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace visimp;
+  if (argc < 2) {
+    std::cerr << kUsage;
+    return kExitBadUsage;
+  }
+  const std::string command = argv[1];
+  const app::Args args(argv + 2, argv + argc);
+  try {
+    if (command == "--help" || command == "-h" || command == "help") {
+      std::cout << kUsage;
+      return kExitSuccess;
+    }
+    if (command == "simplify") return app::run_simplify(args);
+    if (command == "info") return app::run_info(args);
+    if (command == "convert") return app::run_convert(args);
+    throw UsageError("unknown command '" + command + "' (see visimp --help)");
+  } catch (const UsageError& e) {
+    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
+    return kExitBadUsage;
+  } catch (const IoError& e) {
+    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const InvalidMeshError& e) {
+    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "visimp " << command << ": error: out of memory\n";
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::cerr << "visimp " << command << ": internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}

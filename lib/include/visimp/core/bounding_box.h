@@ -1,0 +1,41 @@
+// Axis-aligned bounding box and the normalisation that maps a mesh into a unit frame
+// (centre at the origin, bounding-box diagonal 1). Quadrics and error units are computed
+// in that frame so results do not depend on where or how large the input is.
+#pragma once
+
+#include <limits>
+
+#include "visimp/core/mesh.h"
+
+namespace visimp {
+
+struct BoundingBox {
+  Vec3 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity()};
+  Vec3 max{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+           -std::numeric_limits<double>::infinity()};
+
+  bool empty() const { return !(min.x <= max.x); }
+  void extend(const Vec3& p);
+  Vec3 center() const { return empty() ? Vec3{} : (min + max) * 0.5; }
+  /// Length of the diagonal; 0 for an empty box or a single point.
+  double diagonal() const { return empty() ? 0.0 : norm(max - min); }
+};
+
+/// Box of the vertices referenced by faces, or of all vertices if there are no faces.
+BoundingBox bounding_box(const Mesh& mesh);
+
+/// p_unit = (p - center) * scale with scale = 1/diagonal (1 for a degenerate box).
+struct UnitFrame {
+  Vec3 center;
+  double scale = 1.0;
+
+  Vec3 to_unit(const Vec3& p) const { return (p - center) * scale; }
+  Vec3 from_unit(const Vec3& q) const { return q / scale + center; }
+  /// Converts a length measured in the unit frame back to input units.
+  double length_from_unit(double d) const { return d / scale; }
+};
+
+UnitFrame unit_frame(const BoundingBox& box);
+
+}  // namespace visimp

@@ -1,0 +1,40 @@
+// analyze(mesh): counts what `visimp info` reports and what the simplifier must respect:
+// components, boundary and non-manifold edges, non-manifold vertices, misoriented edges,
+// degenerate and duplicate faces. Linear time after one sort of the edges.
+#pragma once
+
+#include <cstddef>
+
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/mesh.h"
+
+namespace visimp {
+
+struct MeshStats {
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  std::size_t isolated_vertices = 0;     ///< referenced by no face
+  std::size_t components = 0;            ///< connected components of faces (via shared vertices)
+  std::size_t edges = 0;                 ///< distinct undirected edges
+  std::size_t boundary_edges = 0;        ///< edges with exactly one face
+  std::size_t non_manifold_edges = 0;    ///< edges with three or more faces
+  std::size_t misoriented_edges = 0;     ///< two-face edges traversed in the same direction by both
+  std::size_t non_manifold_vertices = 0; ///< vertices whose faces form more than one fan
+  std::size_t degenerate_faces = 0;      ///< zero area (collinear or repeated vertices)
+  std::size_t duplicate_faces = 0;       ///< faces with the same vertex set as an earlier face
+  double area = 0;                       ///< total surface area, input units
+  BoundingBox bbox;
+
+  /// Closed 2-manifold: no boundary, no non-manifold edge or vertex.
+  bool closed_manifold() const {
+    return faces > 0 && boundary_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0;
+  }
+};
+
+MeshStats analyze(const Mesh& mesh);
+
+/// True when the face has a repeated vertex index or (numerically) zero area relative to
+/// its longest edge: such a face has no normal and contributes no plane anywhere in visimp.
+bool is_degenerate(const Mesh& mesh, const Face& f);
+
+}  // namespace visimp

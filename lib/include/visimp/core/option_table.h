@@ -1,0 +1,34 @@
+// Binds command-line flags to the fields of an options struct, so the apps' --help text,
+// defaults and parsing come from the library's structs and cannot drift apart.
+//
+//   SimplifyOptions o;
+//   for (const OptionSpec& s : describe_options(o)) ...   // s.flag, s.help, s.default_text
+#pragma once
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace visimp {
+
+struct OptionSpec {
+  std::string flag;          ///< "--max-error"
+  std::string value_name;    ///< "E"; empty for a switch that takes no value
+  std::string help;          ///< meaning, unit and range
+  std::string default_text;  ///< the field's value when the spec was made
+  std::function<void(std::string_view)> set;  ///< parses a value into the field; throws UsageError
+};
+
+OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help);
+OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help);
+OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help);
+OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help);
+/// A switch: present means true.
+OptionSpec switch_spec(std::string flag, bool& field, std::string help);
+
+/// Parsers shared by the specs and the apps; they throw UsageError naming `what`.
+double parse_double(std::string_view text, const std::string& what);
+std::size_t parse_count(std::string_view text, const std::string& what);
+
+}  // namespace visimp

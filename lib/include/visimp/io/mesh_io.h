@@ -1,0 +1,63 @@
+// Mesh file I/O: a dispatcher over one reader/writer per format (ply.h, obj.h, off.h, stl.h).
+//
+// Capability table (what a round trip through each format keeps):
+//
+// | format | read                         | write             | shared vertices | vertex quality | face quality | isolated vertices |
+// |--------|------------------------------|-------------------|-----------------|----------------|--------------|-------------------|
+// | PLY    | ascii, binary LE/BE, any     | binary LE, ascii  | yes             | yes            | yes          | yes               |
+// |        | scalar type, extra props     |                   |                 |                |              |                   |
+// |        | and elements skipped         |                   |                 |                |              |                   |
+// | OBJ    | v, f (a, a/b, a//c, a/b/c,   | v, f              | yes             | no             | no           | yes               |
+// |        | negative indices)            |                   |                 |                |              |                   |
+// | OFF    | OFF/COFF/NOFF headers,       | OFF               | yes             | no             | no           | yes               |
+// |        | colours skipped              |                   |                 |                |              |                   |
+// | STL    | binary, ascii                | binary, ascii     | welded on read  | no             | no           | no                |
+//
+// Polygons with more than 3 vertices are fan-triangulated on read; a face with fewer than 3
+// vertices is an error (never silently dropped). Every reader throws IoError naming the file
+// and the line or byte offset, and checks counts against the data actually present before
+// allocating, so a lying header cannot cause an unbounded allocation.
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "visimp/core/mesh.h"
+
+namespace visimp {
+
+enum class Format { ply, obj, off, stl };
+
+struct WriteOptions {
+  /// PLY and STL: binary (little-endian) when true, ASCII when false. Ignored by OBJ/OFF.
+  bool binary = true;
+  /// PLY coordinates: float unless a coordinate would move by more than 1e-7 of the bounding-box
+  /// diagonal in float (meshes far from the origin), then double. Force double with true.
+  bool force_double = false;
+};
+
+/// "ply", "obj", "off", "stl" (case-insensitive); nullopt otherwise.
+std::optional<Format> parse_format(std::string_view name);
+const char* format_name(Format format);
+/// The format implied by a path's extension; throws UsageError when it has none we know.
+Format format_from_path(const std::string& path);
+
+/// Reads a mesh file. path "-" reads standard input and then needs an explicit format.
+/// Throws IoError (unreadable, malformed, or invalid content such as NaN coordinates).
+Mesh read_mesh(const std::string& path, std::optional<Format> format = std::nullopt);
+/// Reads from memory or a stream; `name` is used in error messages.
+Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::string& name);
+Mesh read_mesh(std::istream& in, Format format, const std::string& name);
+
+/// Writes a mesh atomically: to a temporary file beside `path`, renamed into place only after
+/// a complete write. path "-" writes standard output. Throws IoError.
+void write_mesh(const Mesh& mesh, const std::string& path, std::optional<Format> format = std::nullopt,
+                const WriteOptions& options = {});
+void write_mesh(const Mesh& mesh, std::ostream& out, Format format, const WriteOptions& options = {});
+
+/// Reads a whole file (or stdin for "-") into memory. Throws IoError.
+std::string read_file_bytes(const std::string& path);
+
+}  // namespace visimp

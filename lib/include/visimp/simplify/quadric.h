@@ -1,0 +1,60 @@
+// Garland–Heckbert plane quadrics (Garland & Heckbert 1997; Zhang & Turk 2002 eq. 5.6–5.7)
+// and the placement of the vertex an edge collapses to.
+//
+// A quadric is the symmetric 4×4 matrix [A b; bᵀ c] of a sum of weighted squared plane
+// distances: Q(x) = xᵀAx + 2bᵀx + c = Σ w_i (n_i·x + d_i)². visimp builds quadrics in the
+// unit frame (bounding-box centre at the origin, diagonal 1) so that their entries are O(1)
+// whatever the input's position and scale.
+#pragma once
+
+#include "visimp/core/vec3.h"
+
+namespace visimp {
+
+struct Quadric {
+  double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;  // A (symmetric)
+  double b0 = 0, b1 = 0, b2 = 0;                                // b
+  double c = 0;
+  /// Total face area this quadric was built from (constraint planes add none); turns a
+  /// quadric error into a mean squared distance.
+  double area = 0;
+
+  /// weight · (n·x + d)² for the plane through `point` with unit normal `n`.
+  static Quadric plane(const Vec3& n, const Vec3& point, double weight);
+
+  Quadric& operator+=(const Quadric& o);
+  friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
+  /// Every entry (and the area) scaled by s; used for visibility weights V(t)².
+  Quadric scaled(double s) const;
+
+  /// Q(p), clamped at 0 (rounding can make it slightly negative).
+  double evaluate(const Vec3& p) const;
+};
+
+/// How place() chose the point (reported in tests and traces).
+enum class PlacementKind {
+  optimal,         ///< A well conditioned: the unique minimiser of Q
+  pseudo_inverse,  ///< A (near) singular: minimiser in the well-determined directions, the
+                   ///< rest taken from the edge midpoint (flat or cylindrical regions)
+  segment,         ///< the minimiser was unusable (too far away): best point on the edge
+  endpoint0,       ///< endpoint p0 is as good as the minimiser (keeps its exact position)
+  endpoint1,       ///< endpoint p1 is as good as the minimiser
+};
+
+struct Placement {
+  Vec3 position;
+  PlacementKind kind = PlacementKind::optimal;
+};
+
+/// Where the edge (p0, p1) with merged quadric q should collapse to.
+///
+/// Solves A x = -b by a rank-revealing method: a fast closed-form inverse when
+/// det(A) > 1e-3·trace(A)³ (this guarantees cond(A) < 1e3), otherwise the eigen-
+/// decomposition of A with eigenvalues below 1e-3·λmax treated as zero, relative to the
+/// edge midpoint (Lindstrom 2000). A result farther than 2 edge lengths from the midpoint, or
+/// non-finite, falls back to the minimiser of Q on the segment. Finally an endpoint whose
+/// error is within rounding of the optimum is preferred, so flat and straight regions keep
+/// original vertex positions exactly.
+Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1);
+
+}  // namespace visimp

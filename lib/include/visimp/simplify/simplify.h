@@ -1,0 +1,85 @@
+// Edge-collapse simplification with quadric error metrics (Garland & Heckbert 1997), the
+// engine behind both of visimp's methods:
+//   QB — plain quadrics order the queue and place the new vertex;
+//   VG — (issue 5) visibility-weighted quadrics order the queue, plain ones place the vertex.
+//
+// Roles, each a small piece of simplify.cpp:
+//   cost term      area-weighted plane quadrics of the faces (+ boundary constraint planes)
+//   placement      place() in quadric.h (rank-revealing, never outside the neighbourhood)
+//   legality       link condition, manifold/lock rules, normal-flip limit (see docs/simplify.md)
+//   stop rule      target face count, or no legal collapse within max_error left
+//   observer       progress reports; the library never prints
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "visimp/core/mesh.h"
+#include "visimp/core/option_table.h"
+
+namespace visimp {
+
+struct SimplifyOptions {
+  /// Stop once the mesh has at most this many faces (0: use target_ratio, or only max_error).
+  std::size_t target_faces = 0;
+  /// Fraction of the input's faces to keep, in (0, 1]; used when target_faces is 0 (0: unset).
+  double target_ratio = 0;
+  /// Never perform a collapse whose error exceeds this. The error is the RMS distance of the
+  /// new vertex to the planes of the faces merged into it, relative to the input's
+  /// bounding-box diagonal. Infinity: no limit. With no target, simplify until this stops it.
+  double max_error = std::numeric_limits<double>::infinity();
+  /// Weight of the planes through each boundary edge perpendicular to its face, as a multiple
+  /// of the edge length squared (faces weigh their area). Keeps open outlines; 0 disables.
+  double boundary_weight = 100.0;
+  /// Never move or remove a boundary vertex.
+  bool freeze_boundary = false;
+  /// Reject a collapse that would turn any remaining face's normal by more than this angle,
+  /// in degrees (0, 180]. 180 only rejects exactly flipped faces.
+  double max_normal_change_deg = 80.0;
+};
+
+/// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
+std::vector<OptionSpec> describe_options(SimplifyOptions& options);
+
+enum class StopReason {
+  target_reached,      ///< face count <= target
+  error_limit,         ///< every remaining collapse would exceed max_error
+  no_legal_collapse,   ///< target not reached: every remaining edge is locked or illegal
+  nothing_to_do,       ///< the input already had no more faces than the target
+};
+const char* to_string(StopReason reason);
+
+struct SimplifyResult {
+  std::size_t faces_in = 0, faces_out = 0;
+  std::size_t vertices_in = 0, vertices_out = 0;
+  std::size_t target_faces = 0;        ///< the target in effect (0 when only max_error stops)
+  std::size_t collapses = 0;
+  std::size_t rejected_collapses = 0;  ///< candidates refused by a legality filter (counted per attempt)
+  std::size_t locked_vertices = 0;     ///< vertices never moved: non-manifold, misoriented, repeated-index faces, frozen boundary
+  /// Largest error of a performed collapse, same unit as max_error (relative to the diagonal).
+  double max_error = 0;
+  StopReason stop_reason = StopReason::nothing_to_do;
+  double seconds = 0;
+};
+
+/// Progress and tracing; the default does nothing.
+class SimplifyObserver {
+ public:
+  virtual ~SimplifyObserver() = default;
+  /// Fraction of the planned collapses done, in [0, 1]; called about a hundred times per run.
+  virtual void on_progress(double /*fraction*/) {}
+};
+
+struct Simplified {
+  Mesh mesh;
+  SimplifyResult result;
+};
+
+/// Simplifies a copy of `input` (never modified). Faces and vertices that survive keep their
+/// input order and quality values. Throws UsageError for out-of-range options and
+/// InvalidMeshError for an invalid mesh (see validate.h).
+Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer = nullptr);
+
+}  // namespace visimp

@@ -1,0 +1,119 @@
+#include "visimp/core/mesh_stats.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "visimp/core/union_find.h"
+
+namespace visimp {
+
+bool is_degenerate(const Mesh& mesh, const Face& f) {
+  if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return true;
+  const Vec3& a = mesh.positions[f[0]];
+  const Vec3& b = mesh.positions[f[1]];
+  const Vec3& c = mesh.positions[f[2]];
+  const double longest2 = std::max({squared_norm(b - a), squared_norm(c - b), squared_norm(a - c)});
+  // |cross| = 2·area; relative to the longest edge squared this is ~sin of the smallest
+  // angle. Below 1e-13 the normal is rounding noise in double.
+  return !(norm(cross(b - a, c - a)) > 1e-13 * longest2);
+}
+
+namespace {
+
+struct HalfEdgeKey {
+  std::uint64_t key;        // (min << 32) | max
+  std::uint32_t corner;     // face * 3 + k, the corner where the directed edge starts
+  bool forward;             // start < end
+  bool operator<(const HalfEdgeKey& o) const { return key < o.key || (key == o.key && corner < o.corner); }
+};
+
+}  // namespace
+
+MeshStats analyze(const Mesh& mesh) {
+  MeshStats s;
+  s.vertices = mesh.num_vertices();
+  s.faces = mesh.num_faces();
+  s.bbox = bounding_box(mesh);
+  const std::size_t nf = mesh.faces.size();
+
+  std::vector<char> referenced(s.vertices, 0);
+  UnionFind vertex_sets(s.vertices);
+  std::vector<HalfEdgeKey> half_edges;
+  half_edges.reserve(nf * 3);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Face& face = mesh.faces[f];
+    for (int k = 0; k < 3; ++k) {
+      const VertexIndex a = face[k], b = face[(k + 1) % 3];
+      referenced[a] = 1;
+      vertex_sets.unite(a, b);
+      if (a == b) continue;
+      const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
+      half_edges.push_back({(lo << 32) | hi, static_cast<std::uint32_t>(f * 3 + k), a < b});
+    }
+    if (is_degenerate(mesh, face)) ++s.degenerate_faces;
+    else s.area += 0.5 * norm(face_normal_unnormalized(mesh, face));
+  }
+  std::sort(half_edges.begin(), half_edges.end());
+
+  // Corners around one vertex are joined across manifold edges; a vertex whose corners
+  // fall into more than one set has several fans (a non-manifold "bow tie" vertex).
+  UnionFind corner_sets(nf * 3);
+  auto corner_of = [&mesh](std::uint32_t face, VertexIndex v) {
+    const Face& f = mesh.faces[face];
+    return face * 3 + (f[0] == v ? 0u : (f[1] == v ? 1u : 2u));
+  };
+  for (std::size_t i = 0; i < half_edges.size();) {
+    std::size_t j = i;
+    while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
+    const std::size_t count = j - i;
+    ++s.edges;
+    if (count == 1) ++s.boundary_edges;
+    else if (count > 2) ++s.non_manifold_edges;
+    else {
+      if (half_edges[i].forward == half_edges[i + 1].forward) ++s.misoriented_edges;
+      const std::uint32_t f0 = half_edges[i].corner / 3, f1 = half_edges[i + 1].corner / 3;
+      const VertexIndex lo = static_cast<VertexIndex>(half_edges[i].key >> 32);
+      const VertexIndex hi = static_cast<VertexIndex>(half_edges[i].key & 0xffffffffu);
+      corner_sets.unite(corner_of(f0, lo), corner_of(f1, lo));
+      corner_sets.unite(corner_of(f0, hi), corner_of(f1, hi));
+    }
+    i = j;
+  }
+
+  // Count fans per vertex: distinct corner-set roots among the vertex's corners.
+  std::vector<std::uint32_t> first_root(s.vertices, UINT32_MAX);
+  std::vector<char> flagged(s.vertices, 0);
+  for (std::uint32_t c = 0; c < nf * 3; ++c) {
+    const VertexIndex v = mesh.faces[c / 3][c % 3];
+    const std::uint32_t root = corner_sets.find(c);
+    if (first_root[v] == UINT32_MAX) first_root[v] = root;
+    else if (first_root[v] != root && !flagged[v]) {
+      // A repeated index inside one face gives that vertex two corners of the same face;
+      // they count as one fan only if joined, which is the honest answer for such a face.
+      flagged[v] = 1;
+      ++s.non_manifold_vertices;
+    }
+  }
+
+  std::vector<char> is_root(s.vertices, 0);
+  for (std::size_t v = 0; v < s.vertices; ++v) {
+    if (!referenced[v]) {
+      ++s.isolated_vertices;
+      continue;
+    }
+    const std::uint32_t r = vertex_sets.find(static_cast<std::uint32_t>(v));
+    if (!is_root[r]) {
+      is_root[r] = 1;
+      ++s.components;
+    }
+  }
+
+  std::vector<std::array<VertexIndex, 3>> sorted(mesh.faces.begin(), mesh.faces.end());
+  for (auto& f : sorted) std::sort(f.begin(), f.end());
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t i = 1; i < sorted.size(); ++i) s.duplicate_faces += (sorted[i] == sorted[i - 1]);
+  return s;
+}
+
+}  // namespace visimp

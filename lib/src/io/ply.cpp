@@ -1,0 +1,417 @@
+#include "visimp/io/ply.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <vector>
+
+#include "text_scanner.h"
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
+
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "visimp's binary readers assume a little-endian host"
+#endif
+
+namespace visimp {
+namespace {
+
+enum class Scalar : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+std::size_t scalar_size(Scalar s) {
+  switch (s) {
+    case Scalar::i8: case Scalar::u8: return 1;
+    case Scalar::i16: case Scalar::u16: return 2;
+    case Scalar::i32: case Scalar::u32: case Scalar::f32: return 4;
+    case Scalar::f64: return 8;
+  }
+  return 0;
+}
+
+std::optional<Scalar> parse_scalar(std::string_view t) {
+  if (t == "char" || t == "int8") return Scalar::i8;
+  if (t == "uchar" || t == "uint8") return Scalar::u8;
+  if (t == "short" || t == "int16") return Scalar::i16;
+  if (t == "ushort" || t == "uint16") return Scalar::u16;
+  if (t == "int" || t == "int32") return Scalar::i32;
+  if (t == "uint" || t == "uint32") return Scalar::u32;
+  if (t == "float" || t == "float32") return Scalar::f32;
+  if (t == "double" || t == "float64") return Scalar::f64;
+  return std::nullopt;
+}
+
+struct Property {
+  std::string name;
+  Scalar type = Scalar::f32;
+  bool is_list = false;
+  Scalar count_type = Scalar::u8;
+};
+
+struct Element {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<Property> properties;
+};
+
+enum class Encoding { ascii, little, big };
+
+struct Header {
+  Encoding encoding = Encoding::ascii;
+  std::vector<Element> elements;
+  std::size_t body_offset = 0;   // byte offset of the first byte after end_header
+  std::size_t body_line = 0;     // line number of the first body line (ascii)
+};
+
+Header parse_header(std::string_view bytes, const std::string& name) {
+  Header h;
+  detail::TextScanner sc(bytes, name);
+  std::vector<std::string_view> tok;
+  if (!sc.next_line() || sc.line() != "ply") throw IoError(name, "not a PLY file (missing 'ply' magic)");
+  bool have_format = false;
+  while (true) {
+    if (!sc.next_line()) throw IoError(name, "PLY header has no end_header");
+    sc.tokens(tok);
+    if (tok.empty()) continue;
+    const std::string_view key = tok[0];
+    if (key == "end_header") break;
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "format") {
+      if (tok.size() != 3) sc.fail("malformed format line");
+      if (tok[1] == "ascii") h.encoding = Encoding::ascii;
+      else if (tok[1] == "binary_little_endian") h.encoding = Encoding::little;
+      else if (tok[1] == "binary_big_endian") h.encoding = Encoding::big;
+      else sc.fail("unknown PLY format '" + std::string(tok[1]) + "'");
+      have_format = true;
+    } else if (key == "element") {
+      if (tok.size() != 3) sc.fail("malformed element line");
+      Element e;
+      e.name = std::string(tok[1]);
+      const std::int64_t count = sc.to_int(tok[2], "element count");
+      if (count < 0) sc.fail("negative element count");
+      e.count = static_cast<std::uint64_t>(count);
+      h.elements.push_back(std::move(e));
+    } else if (key == "property") {
+      if (h.elements.empty()) sc.fail("property before any element");
+      Property p;
+      if (tok.size() == 5 && tok[1] == "list") {
+        const auto ct = parse_scalar(tok[2]);
+        const auto it = parse_scalar(tok[3]);
+        if (!ct || !it) sc.fail("unknown property type in list property '" + std::string(tok[4]) + "'");
+        if (*ct == Scalar::f32 || *ct == Scalar::f64) sc.fail("list count type must be an integer");
+        p.is_list = true;
+        p.count_type = *ct;
+        p.type = *it;
+        p.name = std::string(tok[4]);
+      } else if (tok.size() == 3) {
+        const auto t = parse_scalar(tok[1]);
+        if (!t) sc.fail("unknown property type '" + std::string(tok[1]) + "'");
+        p.type = *t;
+        p.name = std::string(tok[2]);
+      } else {
+        sc.fail("malformed property line");
+      }
+      h.elements.back().properties.push_back(std::move(p));
+    } else {
+      sc.fail("unexpected header line '" + std::string(sc.line().substr(0, 60)) + "'");
+    }
+  }
+  if (!have_format) throw IoError(name, "PLY header has no format line");
+  h.body_offset = bytes.size() - sc.remaining_bytes();
+  h.body_line = sc.line_number() + 1;
+  return h;
+}
+
+// Reads scalars from a binary body with bounds checks; every failure names the byte offset.
+class BinaryCursor {
+ public:
+  BinaryCursor(std::string_view bytes, std::size_t pos, bool big, const std::string& name)
+      : bytes_(bytes), pos_(pos), big_(big), name_(name) {}
+
+  double read(Scalar s) {
+    const std::size_t n = scalar_size(s);
+    if (pos_ + n > bytes_.size())
+      throw IoError(name_, "byte " + std::to_string(pos_) + ": unexpected end of data (file truncated?)");
+    unsigned char raw[8];
+    std::memcpy(raw, bytes_.data() + pos_, n);
+    if (big_) std::reverse(raw, raw + n);
+    pos_ += n;
+    switch (s) {
+      case Scalar::i8: { std::int8_t v; std::memcpy(&v, raw, 1); return v; }
+      case Scalar::u8: return raw[0];
+      case Scalar::i16: { std::int16_t v; std::memcpy(&v, raw, 2); return v; }
+      case Scalar::u16: { std::uint16_t v; std::memcpy(&v, raw, 2); return v; }
+      case Scalar::i32: { std::int32_t v; std::memcpy(&v, raw, 4); return v; }
+      case Scalar::u32: { std::uint32_t v; std::memcpy(&v, raw, 4); return v; }
+      case Scalar::f32: { float v; std::memcpy(&v, raw, 4); return v; }
+      case Scalar::f64: { double v; std::memcpy(&v, raw, 8); return v; }
+    }
+    return 0;
+  }
+  std::size_t pos() const { return pos_; }
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+
+ private:
+  std::string_view bytes_;
+  std::size_t pos_;
+  bool big_;
+  const std::string& name_;
+};
+
+// One element's values, read the same way for ascii and binary bodies.
+class BodyReader {
+ public:
+  virtual ~BodyReader() = default;
+  virtual void begin_element_instance() = 0;
+  virtual double scalar(Scalar type) = 0;
+  virtual void end_element_instance() = 0;
+  virtual std::size_t remaining_bytes() const = 0;
+  [[noreturn]] virtual void fail(const std::string& problem) const = 0;
+};
+
+class BinaryBody final : public BodyReader {
+ public:
+  BinaryBody(std::string_view bytes, std::size_t pos, bool big, const std::string& name)
+      : cursor_(bytes, pos, big, name), name_(name) {}
+  void begin_element_instance() override { start_ = cursor_.pos(); }
+  double scalar(Scalar type) override { return cursor_.read(type); }
+  void end_element_instance() override {}
+  std::size_t remaining_bytes() const override { return cursor_.remaining(); }
+  [[noreturn]] void fail(const std::string& problem) const override {
+    throw IoError(name_, "byte " + std::to_string(start_) + ": " + problem);
+  }
+
+ private:
+  BinaryCursor cursor_;
+  const std::string& name_;
+  std::size_t start_ = 0;
+};
+
+class AsciiBody final : public BodyReader {
+ public:
+  AsciiBody(std::string_view text, std::size_t first_line, const std::string& name) : scanner_(text, name, first_line) {}
+  void begin_element_instance() override {
+    do {
+      if (!scanner_.next_line()) scanner_.fail("unexpected end of file (fewer elements than the header declares)");
+      scanner_.tokens(tokens_);
+    } while (tokens_.empty());
+    next_ = 0;
+  }
+  double scalar(Scalar type) override {
+    if (next_ >= tokens_.size()) scanner_.fail("too few values on the line");
+    const std::string_view t = tokens_[next_++];
+    if (type == Scalar::f32 || type == Scalar::f64) return scanner_.to_double(t, "a property");
+    return static_cast<double>(scanner_.to_int(t, "an integer property"));
+  }
+  void end_element_instance() override {
+    if (next_ != tokens_.size()) scanner_.fail("more values on the line than the header declares");
+  }
+  std::size_t remaining_bytes() const override { return scanner_.remaining_bytes() + 1; }
+  [[noreturn]] void fail(const std::string& problem) const override { scanner_.fail(problem); }
+
+ private:
+  detail::TextScanner scanner_;
+  std::vector<std::string_view> tokens_;
+  std::size_t next_ = 0;
+};
+
+int find_property(const Element& e, std::initializer_list<std::string_view> names) {
+  for (std::size_t i = 0; i < e.properties.size(); ++i)
+    for (std::string_view n : names)
+      if (e.properties[i].name == n) return static_cast<int>(i);
+  return -1;
+}
+
+// The fewest bytes one element instance can take; bounds counts from a lying header.
+std::size_t min_instance_bytes(const Element& e, Encoding enc) {
+  std::size_t n = 0;
+  for (const Property& p : e.properties)
+    n += enc == Encoding::ascii ? 2 : (p.is_list ? scalar_size(p.count_type) : scalar_size(p.type));
+  return n;
+}
+
+}  // namespace
+
+Mesh read_ply(std::string_view bytes, const std::string& name) {
+  const Header h = parse_header(bytes, name);
+  std::unique_ptr<BodyReader> body;
+  if (h.encoding == Encoding::ascii) body = std::make_unique<AsciiBody>(bytes.substr(h.body_offset), h.body_line, name);
+  else body = std::make_unique<BinaryBody>(bytes, h.body_offset, h.encoding == Encoding::big, name);
+
+  Mesh mesh;
+  bool have_vertices = false;
+  std::vector<std::uint32_t> polygon;
+  for (const Element& e : h.elements) {
+    const std::size_t min_bytes = min_instance_bytes(e, h.encoding);
+    if (min_bytes > 0 && e.count > body->remaining_bytes() / min_bytes)
+      throw IoError(name, "header declares " + std::to_string(e.count) + " '" + e.name +
+                              "' elements but the file is too short to hold them");
+    if (min_bytes == 0 && e.count > 0)
+      throw IoError(name, "element '" + e.name + "' has no properties but a count of " + std::to_string(e.count));
+    const bool is_vertex = e.name == "vertex" && !have_vertices;
+    const bool is_face = e.name == "face";
+    int ix = -1, iy = -1, iz = -1, iq = -1, ilist = -1;
+    if (is_vertex) {
+      ix = find_property(e, {"x"});
+      iy = find_property(e, {"y"});
+      iz = find_property(e, {"z"});
+      iq = find_property(e, {"quality"});
+      if (ix < 0 || iy < 0 || iz < 0) throw IoError(name, "vertex element lacks an x, y or z property");
+      if (e.count > UINT32_MAX) throw IoError(name, "more than 2^32 vertices are not supported");
+      mesh.positions.resize(e.count);
+      if (iq >= 0) mesh.vertex_quality.resize(e.count);
+    }
+    if (is_face) {
+      ilist = find_property(e, {"vertex_indices", "vertex_index"});
+      iq = find_property(e, {"quality"});
+      if (ilist < 0 || !e.properties[ilist].is_list) throw IoError(name, "face element lacks a vertex_indices list");
+      mesh.faces.reserve(mesh.faces.size() + e.count);
+      if (iq >= 0 || mesh.has_face_quality()) mesh.face_quality.reserve(mesh.faces.size() + e.count);
+    }
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      body->begin_element_instance();
+      double values[3] = {0, 0, 0};
+      float quality = 0;
+      polygon.clear();
+      for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
+        const Property& p = e.properties[pi];
+        const int at = static_cast<int>(pi);
+        if (p.is_list) {
+          const double count = body->scalar(p.count_type);
+          if (count < 0) body->fail("negative list length in element '" + e.name + "' " + std::to_string(i));
+          const std::size_t n = static_cast<std::size_t>(count);
+          if (n > body->remaining_bytes()) body->fail("list longer than the rest of the file");
+          for (std::size_t k = 0; k < n; ++k) {
+            const double v = body->scalar(p.type);
+            if (at == ilist) {
+              if (!(v >= 0) || v != std::floor(v) || v > double(UINT32_MAX))
+                body->fail("face " + std::to_string(i) + " has an invalid vertex index " + std::to_string(v));
+              polygon.push_back(static_cast<std::uint32_t>(v));
+            }
+          }
+        } else {
+          const double v = body->scalar(p.type);
+          if (at == ix) values[0] = v;
+          else if (at == iy) values[1] = v;
+          else if (at == iz) values[2] = v;
+          else if (at == iq) quality = static_cast<float>(v);
+        }
+      }
+      body->end_element_instance();
+      if (is_vertex) {
+        mesh.positions[i] = {values[0], values[1], values[2]};
+        if (!is_finite(mesh.positions[i])) body->fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
+        if (iq >= 0) mesh.vertex_quality[i] = quality;
+      } else if (is_face) {
+        if (polygon.size() < 3)
+          body->fail("face " + std::to_string(i) + " has " + std::to_string(polygon.size()) + " vertices (at least 3 needed)");
+        if (have_vertices)
+          for (std::uint32_t v : polygon)
+            if (v >= mesh.positions.size())
+              body->fail("face " + std::to_string(i) + " has vertex index " + std::to_string(v) + " >= " +
+                         std::to_string(mesh.positions.size()) + " vertices");
+        detail::append_fan(polygon, mesh.faces);
+        if (iq >= 0) mesh.face_quality.resize(mesh.faces.size(), quality);
+      }
+    }
+    if (is_vertex) have_vertices = true;
+  }
+  if (!have_vertices) throw IoError(name, "PLY file has no vertex element");
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+    for (VertexIndex v : mesh.faces[f])
+      if (v >= mesh.positions.size())
+        throw IoError(name, "face " + std::to_string(f) + " has vertex index " + std::to_string(v) + " >= " +
+                                std::to_string(mesh.positions.size()) + " vertices");
+  if (!mesh.face_quality.empty() && mesh.face_quality.size() != mesh.faces.size()) mesh.face_quality.clear();
+  return mesh;
+}
+
+bool needs_double_precision(const Mesh& mesh) {
+  const double tolerance = 1e-7 * bounding_box(mesh).diagonal();
+  for (const Vec3& p : mesh.positions)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(double(static_cast<float>(p[k])) - p[k]) > tolerance) return true;
+  return false;
+}
+
+namespace {
+
+class LittleEndianBuffer {
+ public:
+  template <class T>
+  void put(T v) {
+    const std::size_t at = data_.size();
+    data_.resize(at + sizeof(T));
+    std::memcpy(data_.data() + at, &v, sizeof(T));
+  }
+  void flush_to(std::ostream& out) {
+    out.write(data_.data(), static_cast<std::streamsize>(data_.size()));
+    data_.clear();
+  }
+  std::size_t size() const { return data_.size(); }
+
+ private:
+  std::vector<char> data_;
+};
+
+}  // namespace
+
+void write_ply(const Mesh& mesh, std::ostream& out, const WriteOptions& options) {
+  const bool use_double = options.force_double || needs_double_precision(mesh);
+  const char* coord = use_double ? "double" : "float";
+  out << "ply\nformat " << (options.binary ? "binary_little_endian" : "ascii") << " 1.0\n"
+      << "comment generated by visimp\n"
+      << "element vertex " << mesh.num_vertices() << "\n"
+      << "property " << coord << " x\nproperty " << coord << " y\nproperty " << coord << " z\n";
+  if (mesh.has_vertex_quality()) out << "property float quality\n";
+  out << "element face " << mesh.num_faces() << "\nproperty list uchar int vertex_indices\n";
+  if (mesh.has_face_quality()) out << "property float quality\n";
+  out << "end_header\n";
+
+  if (!options.binary) {
+    std::ostringstream line;
+    line.precision(use_double ? 17 : 9);
+    for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+      const Vec3& p = mesh.positions[v];
+      if (use_double) line << p.x << ' ' << p.y << ' ' << p.z;
+      else line << float(p.x) << ' ' << float(p.y) << ' ' << float(p.z);
+      if (mesh.has_vertex_quality()) line << ' ' << mesh.vertex_quality[v];
+      line << '\n';
+      out << line.str();
+      line.str("");
+    }
+    for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+      const Face& t = mesh.faces[f];
+      line << "3 " << t[0] << ' ' << t[1] << ' ' << t[2];
+      if (mesh.has_face_quality()) line << ' ' << mesh.face_quality[f];
+      line << '\n';
+      out << line.str();
+      line.str("");
+    }
+    return;
+  }
+  LittleEndianBuffer buf;
+  constexpr std::size_t kChunk = 1 << 20;
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3& p = mesh.positions[v];
+    for (int k = 0; k < 3; ++k) {
+      if (use_double) buf.put<double>(p[k]);
+      else buf.put<float>(static_cast<float>(p[k]));
+    }
+    if (mesh.has_vertex_quality()) buf.put<float>(mesh.vertex_quality[v]);
+    if (buf.size() > kChunk) buf.flush_to(out);
+  }
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    buf.put<std::uint8_t>(3);
+    for (VertexIndex v : mesh.faces[f]) buf.put<std::int32_t>(static_cast<std::int32_t>(v));
+    if (mesh.has_face_quality()) buf.put<float>(mesh.face_quality[f]);
+    if (buf.size() > kChunk) buf.flush_to(out);
+  }
+  buf.flush_to(out);
+}
+
+}  // namespace visimp

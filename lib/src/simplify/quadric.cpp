@@ -1,0 +1,124 @@
+// Quadric error metrics: Garland & Heckbert, "Surface Simplification Using Quadric Error
+// Metrics", SIGGRAPH 1997; rank-revealing placement after Lindstrom, "Out-of-core
+// simplification of large polygonal models", SIGGRAPH 2000.
+#include "visimp/simplify/quadric.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace visimp {
+
+namespace {
+constexpr double kWellConditioned = 1e-3;  // det/trace³ above this ⇒ cond(A) < 1/kWellConditioned
+constexpr double kRankThreshold = 1e-3;    // eigenvalues below this·λmax count as zero
+constexpr double kMaxReachInEdges = 2.0;   // a placement farther than this from the midpoint is rejected
+}  // namespace
+
+Quadric Quadric::plane(const Vec3& n, const Vec3& point, double weight) {
+  const double d = -dot(n, point);
+  Quadric q;
+  q.a00 = weight * n.x * n.x;
+  q.a01 = weight * n.x * n.y;
+  q.a02 = weight * n.x * n.z;
+  q.a11 = weight * n.y * n.y;
+  q.a12 = weight * n.y * n.z;
+  q.a22 = weight * n.z * n.z;
+  q.b0 = weight * n.x * d;
+  q.b1 = weight * n.y * d;
+  q.b2 = weight * n.z * d;
+  q.c = weight * d * d;
+  q.area = weight;
+  return q;
+}
+
+Quadric& Quadric::operator+=(const Quadric& o) {
+  a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
+  b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c; area += o.area;
+  return *this;
+}
+
+Quadric Quadric::scaled(double s) const {
+  Quadric q = *this;
+  q.a00 *= s; q.a01 *= s; q.a02 *= s; q.a11 *= s; q.a12 *= s; q.a22 *= s;
+  q.b0 *= s; q.b1 *= s; q.b2 *= s; q.c *= s; q.area *= s;
+  return q;
+}
+
+double Quadric::evaluate(const Vec3& p) const {
+  const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
+  const double ay = a01 * p.x + a11 * p.y + a12 * p.z;
+  const double az = a02 * p.x + a12 * p.y + a22 * p.z;
+  const double e = p.x * ax + p.y * ay + p.z * az + 2 * (b0 * p.x + b1 * p.y + b2 * p.z) + c;
+  return e > 0 ? e : 0.0;
+}
+
+namespace {
+
+// Minimiser of Q on p0 + t(p1 - p0), t in [0, 1].
+Vec3 best_on_segment(const Quadric& q, const Vec3& p0, const Vec3& p1) {
+  const Vec3 d = p1 - p0;
+  const Vec3 ad{q.a00 * d.x + q.a01 * d.y + q.a02 * d.z, q.a01 * d.x + q.a11 * d.y + q.a12 * d.z,
+                q.a02 * d.x + q.a12 * d.y + q.a22 * d.z};
+  const double curvature = dot(d, ad);
+  double t = 0.5;
+  if (curvature > 0) {
+    const double slope = dot(ad, p0) + q.b0 * d.x + q.b1 * d.y + q.b2 * d.z;
+    t = std::clamp(-slope / curvature, 0.0, 1.0);
+  }
+  return p0 + d * t;
+}
+
+}  // namespace
+
+Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1) {
+  const Vec3 mid = (p0 + p1) * 0.5;
+  const double trace = q.a00 + q.a11 + q.a22;
+  Placement result{mid, PlacementKind::optimal};
+
+  // Cofactors of A: the closed-form inverse is adj(A)/det(A).
+  const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
+  const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
+  const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
+  if (trace > 0 && det > kWellConditioned * trace * trace * trace) {
+    const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+    const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+    const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+    const double inv = -1.0 / det;
+    result.position = {(c00 * q.b0 + c01 * q.b1 + c02 * q.b2) * inv, (c01 * q.b0 + c11 * q.b1 + c12 * q.b2) * inv,
+                       (c02 * q.b0 + c12 * q.b1 + c22 * q.b2) * inv};
+  } else if (trace > 0) {
+    Eigen::Matrix3d a;
+    a << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+    eigen.computeDirect(a);
+    const Eigen::Vector3d& lambda = eigen.eigenvalues();  // ascending
+    const Eigen::Vector3d m(mid.x, mid.y, mid.z);
+    const Eigen::Vector3d residual = -Eigen::Vector3d(q.b0, q.b1, q.b2) - a * m;
+    Eigen::Vector3d x = m;
+    for (int i = 0; i < 3; ++i) {
+      if (lambda[i] > kRankThreshold * lambda[2]) {
+        const Eigen::Vector3d u = eigen.eigenvectors().col(i);
+        x += u * (u.dot(residual) / lambda[i]);
+      }
+    }
+    result = {{x[0], x[1], x[2]}, PlacementKind::pseudo_inverse};
+  }
+  const double reach = kMaxReachInEdges * norm(p1 - p0);
+  if (!is_finite(result.position) || norm(result.position - mid) > reach) {
+    result = {best_on_segment(q, p0, p1), PlacementKind::segment};
+  }
+
+  // Prefer an endpoint whose error equals the optimum up to rounding (~1e-12 of the
+  // quadric's scale): keeps original coordinates on flat and straight parts.
+  const double best = q.evaluate(result.position);
+  const double tolerance = 1e-12 * (trace + std::abs(q.c)) + 1e-300;
+  const double e0 = q.evaluate(p0), e1 = q.evaluate(p1);
+  if (std::min(e0, e1) <= best + tolerance) {
+    result = e0 <= e1 ? Placement{p0, PlacementKind::endpoint0} : Placement{p1, PlacementKind::endpoint1};
+  }
+  return result;
+}
+
+}  // namespace visimp

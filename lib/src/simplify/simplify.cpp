@@ -1,0 +1,525 @@
+// Greedy edge collapse with quadric error metrics: Garland & Heckbert, "Surface
+// Simplification Using Quadric Error Metrics", SIGGRAPH 1997 (§4–5), with the legality
+// rules of Hoppe et al. 1993 (link condition) and area-weighted quadrics (Garland 1999 §3.4).
+// Zhang & Turk 2002 §5 (eq. 5.6–5.7) is the QB baseline this reproduces.
+#include "visimp/simplify/simplify.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
+#include "visimp/core/mesh_stats.h"
+#include "visimp/core/union_find.h"
+#include "visimp/core/validate.h"
+#include "visimp/simplify/quadric.h"
+
+namespace visimp {
+
+std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
+  return {
+      option_spec("--target", "N", o.target_faces, "stop at N faces or fewer (0: use --ratio)"),
+      option_spec("--ratio", "R", o.target_ratio, "keep this fraction of the input faces, in (0, 1]"),
+      option_spec("--max-error", "E", o.max_error,
+                  "never collapse with error above E (RMS plane distance / bbox diagonal)"),
+      option_spec("--boundary-weight", "W", o.boundary_weight,
+                  "weight of boundary constraint planes (x edge length^2); 0 disables"),
+      switch_spec("--freeze-boundary", o.freeze_boundary, "never move or remove boundary vertices"),
+      option_spec("--max-normal-change", "DEG", o.max_normal_change_deg,
+                  "reject collapses turning a face normal by more than DEG degrees, (0, 180]"),
+  };
+}
+
+const char* to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::target_reached: return "target_reached";
+    case StopReason::error_limit: return "error_limit";
+    case StopReason::no_legal_collapse: return "no_legal_collapse";
+    case StopReason::nothing_to_do: return "nothing_to_do";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr std::uint8_t kAlive = 1;
+constexpr std::uint8_t kLocked = 2;     // never moved or removed
+constexpr std::uint8_t kBoundary = 4;   // on an open boundary
+constexpr std::uint8_t kRejected = 8;   // a collapse at this vertex was refused; retry after nearby changes
+
+// A candidate in the lazy min-heap. It is stale when either endpoint changed after `time`.
+struct HeapEntry {
+  float cost;
+  VertexIndex v0, v1;
+  std::uint32_t time;
+};
+struct CostGreater {
+  bool operator()(const HeapEntry& a, const HeapEntry& b) const {
+    if (a.cost != b.cost) return a.cost > b.cost;
+    if (a.v0 != b.v0) return a.v0 > b.v0;
+    return a.v1 > b.v1;
+  }
+};
+
+/* Collapse profile of the edge (v0, v1); v1 is merged into v0 at `placement`.
+
+            vl
+           /  \
+          / fl \
+        v0 ---- v1
+          \ fr /
+           \  /
+            vr
+
+   fl, fr: the faces removed (only fl on a boundary edge); vl, vr: the opposite vertices. */
+struct CollapseProfile {
+  VertexIndex v0 = 0, v1 = 0;
+  std::uint32_t removed[2] = {0, 0};
+  VertexIndex opposite[2] = {0, 0};
+  int num_removed = 0;
+  Placement placement;
+  double cost = 0;   // quadric error Q(x) that orders the queue
+  double error = 0;  // RMS plane distance in the unit frame (= relative to the diagonal)
+};
+
+bool has_vertex(const Face& f, VertexIndex v) { return f[0] == v || f[1] == v || f[2] == v; }
+
+VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) {
+  for (VertexIndex v : f)
+    if (v != a && v != b) return v;
+  return f[0];
+}
+
+class CollapseEngine {
+ public:
+  CollapseEngine(const Mesh& input, const SimplifyOptions& options)
+      : input_(input),
+        frame_(unit_frame(bounding_box(input))),
+        cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)) {
+    const std::size_t nv = input.num_vertices();
+    positions_.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) positions_[v] = frame_.to_unit(input.positions[v]);
+    faces_ = input.faces;
+    face_alive_.assign(faces_.size(), 1);
+    faces_alive_ = faces_.size();
+    flags_.assign(nv, kAlive);
+    modified_.assign(nv, 0);
+    mark_.assign(nv, 0);
+    origin_.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) origin_[v] = static_cast<std::int64_t>(v);
+    quadrics_.assign(nv, Quadric{});
+    build_vertex_faces();
+    classify_vertices(options);
+    add_face_quadrics();
+    push_initial_edges();
+  }
+
+  void run(std::size_t target, double max_error, SimplifyObserver* observer, SimplifyResult& result) {
+    const std::size_t planned = faces_alive_ > target ? faces_alive_ - target : 0;
+    const std::size_t report_every = std::max<std::size_t>(1, planned / 100);
+    std::size_t next_report = faces_alive_ - std::min(faces_alive_, report_every);
+    bool error_limited = false;
+    std::vector<HeapEntry> deferred;  // would overshoot the target by one face; tried last
+    while (!heap_.empty() && faces_alive_ > target) {
+      std::pop_heap(heap_.begin(), heap_.end(), CostGreater{});
+      const HeapEntry entry = heap_.back();
+      heap_.pop_back();
+      CollapseProfile profile;
+      if (!prepare(entry, profile)) continue;
+      if (profile.error > max_error) {
+        error_limited = true;
+        continue;
+      }
+      if (!legal(profile)) {
+        ++result.rejected_collapses;
+        flags_[profile.v0] |= kRejected;
+        flags_[profile.v1] |= kRejected;
+        continue;
+      }
+      if (faces_alive_ - static_cast<std::size_t>(profile.num_removed) < target) {
+        deferred.push_back(entry);
+        continue;
+      }
+      collapse(profile, result);
+      if (observer && faces_alive_ <= next_report) {
+        observer->on_progress(planned ? double(input_.num_faces() - faces_alive_) / double(planned) : 1.0);
+        next_report = faces_alive_ > report_every ? faces_alive_ - report_every : 0;
+      }
+      maybe_compact_heap();
+    }
+    // Only two-face collapses were left with one face to go: a closed mesh cannot hit an odd
+    // target, so end one face below it rather than one above.
+    for (const HeapEntry& entry : deferred) {
+      if (faces_alive_ <= target) break;
+      CollapseProfile profile;
+      if (prepare(entry, profile) && profile.error <= max_error && legal(profile)) collapse(profile, result);
+    }
+    if (faces_alive_ <= target) result.stop_reason = result.collapses ? StopReason::target_reached : StopReason::nothing_to_do;
+    else result.stop_reason = error_limited ? StopReason::error_limit : StopReason::no_legal_collapse;
+    if (observer) observer->on_progress(1.0);
+  }
+
+  Mesh extract() const {
+    Mesh out;
+    std::vector<VertexIndex> remap(input_.num_vertices(), 0);
+    for (std::size_t v = 0; v < input_.num_vertices(); ++v) {
+      if (!(flags_[v] & kAlive)) continue;
+      remap[v] = static_cast<VertexIndex>(out.positions.size());
+      out.positions.push_back(origin_[v] >= 0 ? input_.positions[static_cast<std::size_t>(origin_[v])]
+                                              : frame_.from_unit(positions_[v]));
+      if (input_.has_vertex_quality()) out.vertex_quality.push_back(input_.vertex_quality[v]);
+    }
+    out.faces.reserve(faces_alive_);
+    for (std::size_t f = 0; f < faces_.size(); ++f) {
+      if (!face_alive_[f]) continue;
+      out.faces.push_back({remap[faces_[f][0]], remap[faces_[f][1]], remap[faces_[f][2]]});
+      if (input_.has_face_quality()) out.face_quality.push_back(input_.face_quality[f]);
+    }
+    return out;
+  }
+
+  std::size_t locked_vertices() const {
+    return static_cast<std::size_t>(std::count_if(flags_.begin(), flags_.end(), [](std::uint8_t f) { return f & kLocked; }));
+  }
+
+ private:
+  void build_vertex_faces() {
+    std::vector<std::uint32_t> degree(positions_.size(), 0);
+    for (const Face& f : faces_)
+      for (VertexIndex v : f) ++degree[v];
+    vertex_faces_.resize(positions_.size());
+    for (std::size_t v = 0; v < positions_.size(); ++v) vertex_faces_[v].reserve(degree[v]);
+    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+      const Face& face = faces_[f];
+      for (int k = 0; k < 3; ++k)
+        if (k == 0 || (face[k] != face[0] && (k == 1 || face[k] != face[1]))) vertex_faces_[face[k]].push_back(f);
+    }
+  }
+
+  // Locks vertices the collapse rules cannot handle (repeated-index faces, edges with 3+
+  // faces, misoriented edges, several fans, a frozen boundary) and adds boundary planes.
+  void classify_vertices(const SimplifyOptions& options) {
+    for (const Face& f : faces_)
+      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2])
+        for (VertexIndex v : f) flags_[v] |= kLocked;
+
+    struct Incidence {
+      VertexIndex other;
+      bool outgoing;        // the face runs v -> other
+      std::uint32_t local;  // index of the face in vertex_faces_[v]
+      bool operator<(const Incidence& o) const { return other < o.other || (other == o.other && local < o.local); }
+    };
+    std::vector<Incidence> inc;
+    for (VertexIndex v = 0; v < positions_.size(); ++v) {
+      const auto& vf = vertex_faces_[v];
+      if (vf.empty() || (flags_[v] & kLocked)) continue;
+      inc.clear();
+      for (std::uint32_t i = 0; i < vf.size(); ++i) {
+        const Face& f = faces_[vf[i]];
+        const int k = f[0] == v ? 0 : (f[1] == v ? 1 : 2);
+        inc.push_back({f[(k + 1) % 3], true, i});
+        inc.push_back({f[(k + 2) % 3], false, i});
+      }
+      std::sort(inc.begin(), inc.end());
+      UnionFind fans(vf.size());
+      std::size_t fan_count = vf.size();
+      bool locked = false, boundary = false;
+      for (std::size_t i = 0; i < inc.size();) {
+        std::size_t j = i;
+        while (j < inc.size() && inc[j].other == inc[i].other) ++j;
+        const std::size_t count = j - i;
+        if (count > 2) locked = true;  // non-manifold edge
+        else if (count == 2) {
+          if (inc[i].outgoing == inc[i + 1].outgoing) locked = true;  // misoriented neighbours
+          else if (fans.unite(inc[i].local, inc[i + 1].local)) --fan_count;
+        } else {
+          boundary = true;
+          if (v < inc[i].other) add_boundary_plane(vf[inc[i].local], v, inc[i].other, options.boundary_weight);
+        }
+        i = j;
+      }
+      if (fan_count > 1) locked = true;  // several fans meet at v
+      if (boundary) flags_[v] |= kBoundary;
+      if (locked || (boundary && options.freeze_boundary)) flags_[v] |= kLocked;
+    }
+  }
+
+  void add_boundary_plane(std::uint32_t face, VertexIndex a, VertexIndex b, double weight) {
+    if (weight <= 0) return;
+    const Face& f = faces_[face];
+    const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
+    const Vec3 e = positions_[b] - positions_[a];
+    const Vec3 m = cross(e, n);
+    const double len = norm(m);
+    if (!(len > 0) || is_degenerate_in_unit_frame(f)) return;
+    Quadric q = Quadric::plane(m / len, positions_[a], weight * squared_norm(e));
+    q.area = 0;  // constraint planes carry no surface area
+    quadrics_[a] += q;
+    quadrics_[b] += q;
+  }
+
+  bool is_degenerate_in_unit_frame(const Face& f) const {
+    const Vec3 &a = positions_[f[0]], &b = positions_[f[1]], &c = positions_[f[2]];
+    const double longest2 = std::max({squared_norm(b - a), squared_norm(c - b), squared_norm(a - c)});
+    return !(norm(cross(b - a, c - a)) > 1e-13 * longest2);
+  }
+
+  void add_face_quadrics() {
+    for (const Face& f : faces_) {
+      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
+      const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
+      const double len = norm(n);
+      const Quadric q = Quadric::plane(n / len, positions_[f[0]], 0.5 * len);
+      for (VertexIndex v : f) quadrics_[v] += q;
+    }
+  }
+
+  // A mark value no vertex carries yet (marks replace per-call sets of visited vertices).
+  std::uint32_t fresh_mark() {
+    if (mark_id_ == UINT32_MAX) {
+      std::fill(mark_.begin(), mark_.end(), 0);
+      mark_id_ = 0;
+    }
+    return ++mark_id_;
+  }
+
+  template <class Fn>
+  void for_each_neighbor(VertexIndex v, Fn&& fn) {
+    const std::uint32_t mark = fresh_mark();
+    mark_[v] = mark;
+    for (std::uint32_t f : vertex_faces_[v])
+      for (VertexIndex w : faces_[f])
+        if (mark_[w] != mark) {
+          mark_[w] = mark;
+          fn(w);
+        }
+  }
+
+  void push_initial_edges() {
+    heap_.reserve(faces_.size() * 2);
+    for (VertexIndex v = 0; v < positions_.size(); ++v) {
+      if (flags_[v] & kLocked) continue;
+      for_each_neighbor(v, [&](VertexIndex w) {
+        if (w > v) push_edge(v, w);
+      });
+    }
+    std::make_heap(heap_.begin(), heap_.end(), CostGreater{});
+    initial_heap_built_ = true;
+  }
+
+  // Error of collapsing (v0, v1): RMS distance of the placement to the merged planes.
+  void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
+    const Quadric q = quadrics_[v0] + quadrics_[v1];
+    p.placement = place(q, positions_[v0], positions_[v1]);
+    p.cost = q.evaluate(p.placement.position);
+    p.error = std::sqrt(p.cost / std::max(q.area, 1e-300));
+  }
+
+  void push_edge(VertexIndex a, VertexIndex b) {
+    if ((flags_[a] | flags_[b]) & kLocked) return;
+    CollapseProfile p;
+    evaluate(a, b, p);
+    heap_.push_back({static_cast<float>(p.cost), a, b, clock_});
+    if (initial_heap_built_) std::push_heap(heap_.begin(), heap_.end(), CostGreater{});
+  }
+
+  // Fills the profile for a heap entry; false when the entry is stale.
+  bool prepare(const HeapEntry& e, CollapseProfile& p) {
+    if (!(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive)) return false;
+    if (modified_[e.v0] > e.time || modified_[e.v1] > e.time) return false;
+    p.v0 = e.v0;
+    p.v1 = e.v1;
+    p.num_removed = 0;
+    for (std::uint32_t f : vertex_faces_[e.v0]) {
+      if (!has_vertex(faces_[f], e.v1)) continue;
+      if (p.num_removed == 2) return false;  // cannot happen on unlocked vertices
+      p.removed[p.num_removed] = f;
+      p.opposite[p.num_removed] = third_vertex(faces_[f], e.v0, e.v1);
+      ++p.num_removed;
+    }
+    if (p.num_removed == 0) return false;
+    evaluate(e.v0, e.v1, p);
+    return true;
+  }
+
+  bool is_removed(const CollapseProfile& p, std::uint32_t f) const {
+    return f == p.removed[0] || (p.num_removed == 2 && f == p.removed[1]);
+  }
+
+  // Legality filters: link condition, topology table, normal change.
+  bool legal(const CollapseProfile& p) {
+    // Link condition (Dey et al. 1999): the common neighbours of v0 and v1 must be exactly
+    // the opposite vertices, or the collapse pinches the surface.
+    std::size_t common = 0;
+    if (mark_id_ > UINT32_MAX - 2) fresh_mark();  // keep both marks below from wrapping
+    for_each_neighbor(p.v0, [](VertexIndex) {});
+    const std::uint32_t v0_neighbor = mark_id_, counted = fresh_mark();
+    for (std::uint32_t f : vertex_faces_[p.v1])
+      for (VertexIndex w : faces_[f])
+        if (w != p.v0 && w != p.v1 && mark_[w] == v0_neighbor) {
+          mark_[w] = counted;
+          ++common;
+        }
+    if (common != static_cast<std::size_t>(p.num_removed)) return false;
+
+    // Topology table:
+    //   interior edge (2 faces) joining two boundary vertices  -> reject (pinches a bridge)
+    //   opposite vertex interior with 3 faces                  -> reject (folds a tetrahedron)
+    //   opposite vertex whose only face is removed             -> reject (leaves it isolated)
+    const bool b0 = flags_[p.v0] & kBoundary, b1 = flags_[p.v1] & kBoundary;
+    if (p.num_removed == 2 && b0 && b1) return false;
+    for (int i = 0; i < p.num_removed; ++i) {
+      const VertexIndex c = p.opposite[i];
+      const std::size_t degree = vertex_faces_[c].size();
+      if (degree <= 1 || (!(flags_[c] & kBoundary) && degree <= 3)) return false;
+    }
+
+    // Normal change: no remaining face may turn by more than the limit or become degenerate.
+    const Vec3 x = p.placement.position;
+    for (VertexIndex moved : {p.v0, p.v1}) {
+      for (std::uint32_t f : vertex_faces_[moved]) {
+        if (is_removed(p, f)) continue;
+        const Face& face = faces_[f];
+        Vec3 corners[3] = {positions_[face[0]], positions_[face[1]], positions_[face[2]]};
+        const Vec3 n_old = cross(corners[1] - corners[0], corners[2] - corners[0]);
+        for (int k = 0; k < 3; ++k)
+          if (face[k] == p.v0 || face[k] == p.v1) corners[k] = x;
+        const Vec3 n_new = cross(corners[1] - corners[0], corners[2] - corners[0]);
+        const double longest2 = std::max({squared_norm(corners[1] - corners[0]), squared_norm(corners[2] - corners[1]),
+                                          squared_norm(corners[0] - corners[2])});
+        const double len_new = norm(n_new);
+        if (!(len_new > 1e-13 * longest2)) return false;  // would create a zero-area face
+        const double len_old = norm(n_old);
+        if (len_old > 0 && dot(n_old, n_new) < cos_max_normal_change_ * len_old * len_new) return false;
+      }
+    }
+    return true;
+  }
+
+  void remove_from(std::vector<std::uint32_t>& list, std::uint32_t f) {
+    const auto it = std::find(list.begin(), list.end(), f);
+    if (it != list.end()) {
+      *it = list.back();
+      list.pop_back();
+    }
+  }
+
+  void collapse(const CollapseProfile& p, SimplifyResult& result) {
+    const VertexIndex v0 = p.v0, v1 = p.v1;
+    for (int i = 0; i < p.num_removed; ++i) {
+      const std::uint32_t f = p.removed[i];
+      face_alive_[f] = 0;
+      remove_from(vertex_faces_[p.opposite[i]], f);
+      remove_from(vertex_faces_[v0], f);
+    }
+    for (std::uint32_t f : vertex_faces_[v1]) {
+      if (!face_alive_[f]) continue;
+      for (VertexIndex& w : faces_[f])
+        if (w == v1) w = v0;
+      vertex_faces_[v0].push_back(f);
+    }
+    std::vector<std::uint32_t>().swap(vertex_faces_[v1]);
+    faces_alive_ -= static_cast<std::size_t>(p.num_removed);
+
+    positions_[v0] = p.placement.position;
+    if (p.placement.kind == PlacementKind::endpoint1) origin_[v0] = origin_[v1];
+    else if (p.placement.kind != PlacementKind::endpoint0) origin_[v0] = -1;
+    quadrics_[v0] += quadrics_[v1];
+    flags_[v0] = static_cast<std::uint8_t>(flags_[v0] | (flags_[v1] & kBoundary));
+    flags_[v1] = 0;
+    ++clock_;
+    modified_[v0] = modified_[v1] = clock_;
+    ++result.collapses;
+    result.max_error = std::max(result.max_error, p.error);
+
+    // New costs for every edge at v0; neighbours refused earlier get another chance since
+    // their surroundings changed.
+    ring_.clear();
+    for_each_neighbor(v0, [&](VertexIndex w) { ring_.push_back(w); });
+    for (VertexIndex w : ring_) push_edge(v0, w);
+    for (VertexIndex w : ring_) {
+      if (!(flags_[w] & kRejected)) continue;
+      flags_[w] &= static_cast<std::uint8_t>(~kRejected);
+      second_ring_.clear();
+      for_each_neighbor(w, [&](VertexIndex u) { second_ring_.push_back(u); });
+      for (VertexIndex u : second_ring_)
+        if (u != v0) push_edge(w, u);
+    }
+  }
+
+  // Drops stale entries once they outnumber live edges, bounding the heap's memory.
+  void maybe_compact_heap() {
+    const std::size_t live_edges = faces_alive_ * 3 / 2 + 1024;
+    if (heap_.size() < 4 * live_edges) return;
+    heap_.erase(std::remove_if(heap_.begin(), heap_.end(),
+                               [this](const HeapEntry& e) {
+                                 return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) ||
+                                        modified_[e.v0] > e.time || modified_[e.v1] > e.time;
+                               }),
+                heap_.end());
+    std::make_heap(heap_.begin(), heap_.end(), CostGreater{});
+  }
+
+  const Mesh& input_;
+  UnitFrame frame_;
+  double cos_max_normal_change_;
+  std::vector<Vec3> positions_;                      // unit frame
+  std::vector<Face> faces_;
+  std::vector<std::uint8_t> face_alive_;
+  std::size_t faces_alive_ = 0;
+  std::vector<std::vector<std::uint32_t>> vertex_faces_;
+  std::vector<Quadric> quadrics_;
+  std::vector<std::uint8_t> flags_;
+  std::vector<std::uint32_t> modified_;              // clock of the vertex's last change
+  std::vector<std::int64_t> origin_;                 // input vertex whose exact position v holds, or -1
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t mark_id_ = 0;
+  std::uint32_t clock_ = 0;
+  std::vector<HeapEntry> heap_;
+  bool initial_heap_built_ = false;
+  std::vector<VertexIndex> ring_, second_ring_;
+};
+
+}  // namespace
+
+Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!(options.target_ratio >= 0 && options.target_ratio <= 1))
+    throw UsageError("--ratio must be in (0, 1], got " + std::to_string(options.target_ratio));
+  if (!(options.max_error >= 0)) throw UsageError("--max-error must be >= 0");
+  if (!(options.boundary_weight >= 0) || !std::isfinite(options.boundary_weight))
+    throw UsageError("--boundary-weight must be a finite number >= 0");
+  if (!(options.max_normal_change_deg > 0 && options.max_normal_change_deg <= 180))
+    throw UsageError("--max-normal-change must be in (0, 180] degrees");
+  const bool has_target = options.target_faces > 0 || options.target_ratio > 0;
+  if (!has_target && std::isinf(options.max_error))
+    throw UsageError("give a target (--target or --ratio) or an error limit (--max-error)");
+  require_valid(input, "simplify input");
+
+  SimplifyResult result;
+  result.faces_in = input.num_faces();
+  result.vertices_in = input.num_vertices();
+  result.target_faces = options.target_faces > 0
+                            ? options.target_faces
+                            : static_cast<std::size_t>(std::llround(options.target_ratio * double(input.num_faces())));
+
+  Simplified out;
+  if (result.faces_in <= result.target_faces) {
+    out.mesh = input;
+  } else {
+    CollapseEngine engine(input, options);
+    result.locked_vertices = engine.locked_vertices();
+    engine.run(result.target_faces, options.max_error, observer, result);
+    out.mesh = engine.extract();
+  }
+  if (result.collapses == 0 && result.faces_in <= result.target_faces) result.stop_reason = StopReason::nothing_to_do;
+  result.faces_out = out.mesh.num_faces();
+  result.vertices_out = out.mesh.num_vertices();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.result = result;
+  return out;
+}
+
+}  // namespace visimp
