@@ -10,7 +10,6 @@
 namespace visimp {
 
 namespace {
-constexpr double kWellConditioned = 1e-3;  // det/trace³ above this ⇒ cond(A) < 1/kWellConditioned
 constexpr double kRankThreshold = 1e-3;    // eigenvalues below this·λmax count as zero
 constexpr double kMaxReachInEdges = 2.0;   // a placement farther than this from the midpoint is rejected
 }  // namespace
@@ -80,11 +79,15 @@ Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1) {
   const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
   const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
   const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+  const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+  const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
   const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
-  if (trace > 0 && det > kWellConditioned * trace * trace * trace) {
-    const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
-    const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
-    const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+  // For symmetric PSD A with eigenvalues l1 >= l2 >= l3: l1 <= trace and
+  // l1·l2 <= c00 + c11 + c22 (sum of principal minors), so l3/l1 >= det / (trace·minors).
+  // Above the rank threshold no eigenvalue would be truncated: the plain inverse is exact.
+  const double minors = c00 + c11 + c22;
+  if (trace > 0 && det > kRankThreshold * trace * minors) {
     const double inv = -1.0 / det;
     result.position = {(c00 * q.b0 + c01 * q.b1 + c02 * q.b2) * inv, (c01 * q.b0 + c11 * q.b1 + c12 * q.b2) * inv,
                        (c02 * q.b0 + c12 * q.b1 + c22 * q.b2) * inv};

@@ -15,6 +15,7 @@
 #include "visimp/core/union_find.h"
 #include "visimp/core/validate.h"
 #include "visimp/simplify/quadric.h"
+#include "radix_heap.h"
 
 namespace visimp {
 
@@ -49,18 +50,12 @@ constexpr std::uint8_t kLocked = 2;     // never moved or removed
 constexpr std::uint8_t kBoundary = 4;   // on an open boundary
 constexpr std::uint8_t kRejected = 8;   // a collapse at this vertex was refused; retry after nearby changes
 
-// A candidate in the lazy min-heap. It is stale when either endpoint changed after `time`.
+// A candidate in the lazy queue (key: radix_key of its cost). It is stale when either
+// endpoint changed after `time`; stale entries are skipped when popped.
 struct HeapEntry {
-  float cost;
+  std::uint32_t key;
   VertexIndex v0, v1;
   std::uint32_t time;
-};
-struct CostGreater {
-  bool operator()(const HeapEntry& a, const HeapEntry& b) const {
-    if (a.cost != b.cost) return a.cost > b.cost;
-    if (a.v0 != b.v0) return a.v0 > b.v0;
-    return a.v1 > b.v1;
-  }
 };
 
 /* Collapse profile of the edge (v0, v1); v1 is merged into v0 at `placement`.
@@ -123,9 +118,7 @@ class CollapseEngine {
     bool error_limited = false;
     std::vector<HeapEntry> deferred;  // would overshoot the target by one face; tried last
     while (!heap_.empty() && faces_alive_ > target) {
-      std::pop_heap(heap_.begin(), heap_.end(), CostGreater{});
-      const HeapEntry entry = heap_.back();
-      heap_.pop_back();
+      const HeapEntry entry = heap_.pop();
       CollapseProfile profile;
       if (!prepare(entry, profile)) continue;
       if (profile.error > max_error) {
@@ -298,15 +291,12 @@ class CollapseEngine {
   }
 
   void push_initial_edges() {
-    heap_.reserve(faces_.size() * 2);
     for (VertexIndex v = 0; v < positions_.size(); ++v) {
       if (flags_[v] & kLocked) continue;
       for_each_neighbor(v, [&](VertexIndex w) {
         if (w > v) push_edge(v, w);
       });
     }
-    std::make_heap(heap_.begin(), heap_.end(), CostGreater{});
-    initial_heap_built_ = true;
   }
 
   // Error of collapsing (v0, v1): RMS distance of the placement to the merged planes.
@@ -321,14 +311,17 @@ class CollapseEngine {
     if ((flags_[a] | flags_[b]) & kLocked) return;
     CollapseProfile p;
     evaluate(a, b, p);
-    heap_.push_back({static_cast<float>(p.cost), a, b, clock_});
-    if (initial_heap_built_) std::push_heap(heap_.begin(), heap_.end(), CostGreater{});
+    heap_.push({detail::radix_key(static_cast<float>(p.cost)), a, b, clock_});
+  }
+
+  bool is_stale(const HeapEntry& e) const {
+    return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) || modified_[e.v0] > e.time ||
+           modified_[e.v1] > e.time;
   }
 
   // Fills the profile for a heap entry; false when the entry is stale.
   bool prepare(const HeapEntry& e, CollapseProfile& p) {
-    if (!(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive)) return false;
-    if (modified_[e.v0] > e.time || modified_[e.v1] > e.time) return false;
+    if (is_stale(e)) return false;
     p.v0 = e.v0;
     p.v1 = e.v1;
     p.num_removed = 0;
@@ -453,13 +446,7 @@ class CollapseEngine {
   void maybe_compact_heap() {
     const std::size_t live_edges = faces_alive_ * 3 / 2 + 1024;
     if (heap_.size() < 4 * live_edges) return;
-    heap_.erase(std::remove_if(heap_.begin(), heap_.end(),
-                               [this](const HeapEntry& e) {
-                                 return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) ||
-                                        modified_[e.v0] > e.time || modified_[e.v1] > e.time;
-                               }),
-                heap_.end());
-    std::make_heap(heap_.begin(), heap_.end(), CostGreater{});
+    heap_.remove_if([this](const HeapEntry& e) { return is_stale(e); });
   }
 
   const Mesh& input_;
@@ -477,8 +464,7 @@ class CollapseEngine {
   std::vector<std::uint32_t> mark_;
   std::uint32_t mark_id_ = 0;
   std::uint32_t clock_ = 0;
-  std::vector<HeapEntry> heap_;
-  bool initial_heap_built_ = false;
+  detail::RadixHeap<HeapEntry> heap_;
   std::vector<VertexIndex> ring_, second_ring_;
 };
 

@@ -49,7 +49,8 @@ struct Placement {
 /// Where the edge (p0, p1) with merged quadric q should collapse to.
 ///
 /// Solves A x = -b by a rank-revealing method: a fast closed-form inverse when
-/// det(A) > 1e-3·trace(A)³ (this guarantees cond(A) < 1e3), otherwise the eigen-
+/// det(A) > 1e-3·trace(A)·(sum of its principal 2×2 minors), which guarantees
+/// cond(A) < 1e3, otherwise the eigen-
 /// decomposition of A with eigenvalues below 1e-3·λmax treated as zero, relative to the
 /// edge midpoint (Lindstrom 2000). A result farther than 2 edge lengths from the midpoint, or
 /// non-finite, falls back to the minimiser of Q on the segment. Finally an endpoint whose

@@ -1,0 +1,80 @@
+// Private to simplify: a radix heap (Ahuja, Mehlhorn, Orlin & Tarjan 1990) over 32-bit keys.
+//
+// Collapse costs are non-negative floats, whose IEEE bit patterns order like unsigned
+// integers, and the queue is (almost) monotone: merged quadrics only grow, so a new cost is
+// rarely below the last one popped. A radix heap exploits that: push is O(1) and a pop moves
+// each item down at most 32 buckets over its life, all with sequential memory access — on a
+// million-edge mesh this is several times faster than a binary heap, whose sifts miss cache.
+// A key below the last popped key is clamped to it ("process next"), which is what a greedy
+// queue would do with the cheapest item anyway.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace visimp::detail {
+
+/// T must have a `std::uint32_t key` member.
+template <class T>
+class RadixHeap {
+ public:
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+
+  void push(T item) {
+    if (item.key < last_) item.key = last_;
+    buckets_[bucket_of(item.key)].push_back(item);
+    ++size_;
+  }
+
+  /// Removes and returns an item with the smallest key; among equal keys the last pushed.
+  T pop() {
+    if (buckets_[0].empty()) refill_first_bucket();
+    T item = buckets_[0].back();
+    buckets_[0].pop_back();
+    --size_;
+    return item;
+  }
+
+  /// Drops every item for which `drop(item)` is true (used to shed stale entries).
+  template <class Pred>
+  void remove_if(Pred drop) {
+    size_ = 0;
+    for (auto& bucket : buckets_) {
+      std::size_t kept = 0;
+      for (const T& item : bucket)
+        if (!drop(item)) bucket[kept++] = item;
+      bucket.resize(kept);
+      size_ += kept;
+    }
+  }
+
+ private:
+  int bucket_of(std::uint32_t key) const { return key == last_ ? 0 : 32 - __builtin_clz(key ^ last_); }
+
+  void refill_first_bucket() {
+    int i = 1;
+    while (buckets_[i].empty()) ++i;
+    std::uint32_t smallest = buckets_[i][0].key;
+    for (const T& item : buckets_[i])
+      if (item.key < smallest) smallest = item.key;
+    last_ = smallest;
+    for (const T& item : buckets_[i]) buckets_[bucket_of(item.key)].push_back(item);
+    buckets_[i].clear();
+  }
+
+  std::array<std::vector<T>, 33> buckets_;
+  std::uint32_t last_ = 0;
+  std::size_t size_ = 0;
+};
+
+/// The radix key of a non-negative float: its bit pattern, which orders like the value.
+inline std::uint32_t radix_key(float cost) {
+  std::uint32_t bits;
+  static_assert(sizeof bits == sizeof cost);
+  __builtin_memcpy(&bits, &cost, sizeof bits);
+  return cost > 0 ? bits : 0;
+}
+
+}  // namespace visimp::detail
