@@ -24,6 +24,7 @@ int run_simplify(const Args& args) {
   parser.add(describe_options(options));
   parser.add(describe_options(stream, true));
   if (!parser.parse(args)) return 0;
+  check_options(options);
   const std::string& in = parser.positionals()[0];
   const std::string& out = parser.positionals()[1];
 

@@ -170,6 +170,8 @@ class BodyReader {
   virtual double scalar(Scalar type) = 0;
   virtual void end_element_instance() = 0;
   virtual std::size_t remaining_bytes() const = 0;
+  /// Whether a list of n items of this type can still be present (bounds lying lengths).
+  virtual bool can_hold_list(std::size_t n, Scalar type) const = 0;
   [[noreturn]] virtual void fail(const std::string& problem) const = 0;
 };
 
@@ -180,7 +182,8 @@ class BinaryBody final : public BodyReader {
   void begin_element_instance() override { start_ = cursor_.pos(); }
   double scalar(Scalar type) override { return cursor_.read(type); }
   void end_element_instance() override {}
-  std::size_t remaining_bytes() const override { return cursor_.remaining(); }
+ std::size_t remaining_bytes() const override { return cursor_.remaining(); }
+  bool can_hold_list(std::size_t n, Scalar type) const override { return n <= cursor_.remaining() / scalar_size(type); }
   [[noreturn]] void fail(const std::string& problem) const override {
     throw IoError(name_, "byte " + std::to_string(start_) + ": " + problem);
   }
@@ -211,6 +214,7 @@ class AsciiBody final : public BodyReader {
     if (next_ != tokens_.size()) scanner_.fail("more values on the line than the header declares");
   }
   std::size_t remaining_bytes() const override { return scanner_.remaining_bytes() + 1; }
+  bool can_hold_list(std::size_t n, Scalar) const override { return n <= tokens_.size() - next_; }
   [[noreturn]] void fail(const std::string& problem) const override { scanner_.fail(problem); }
 
  private:
@@ -284,7 +288,8 @@ Mesh read_ply(std::string_view bytes, const std::string& name) {
           const double count = body->scalar(p.count_type);
           if (count < 0) body->fail("negative list length in element '" + e.name + "' " + std::to_string(i));
           const std::size_t n = static_cast<std::size_t>(count);
-          if (n > body->remaining_bytes()) body->fail("list longer than the rest of the file");
+          if (!body->can_hold_list(n, p.type))
+            body->fail("list of " + std::to_string(n) + " values is longer than the data that follows");
           for (std::size_t k = 0; k < n; ++k) {
             const double v = body->scalar(p.type);
             if (at == ilist) {

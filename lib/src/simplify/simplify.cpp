@@ -470,8 +470,7 @@ class CollapseEngine {
 
 }  // namespace
 
-Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer) {
-  const auto start = std::chrono::steady_clock::now();
+void check_options(const SimplifyOptions& options) {
   if (!(options.target_ratio >= 0 && options.target_ratio <= 1))
     throw UsageError("--ratio must be in (0, 1], got " + std::to_string(options.target_ratio));
   if (!(options.max_error >= 0)) throw UsageError("--max-error must be >= 0");
@@ -482,6 +481,11 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   const bool has_target = options.target_faces > 0 || options.target_ratio > 0;
   if (!has_target && std::isinf(options.max_error))
     throw UsageError("give a target (--target or --ratio) or an error limit (--max-error)");
+}
+
+Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(options);
   require_valid(input, "simplify input");
 
   SimplifyResult result;

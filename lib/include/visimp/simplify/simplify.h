@@ -43,6 +43,10 @@ struct SimplifyOptions {
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
 std::vector<OptionSpec> describe_options(SimplifyOptions& options);
 
+/// Throws UsageError naming the flag when an option is out of range or no stop rule is given.
+/// simplify() calls it; apps call it first so bad usage is reported before any I/O.
+void check_options(const SimplifyOptions& options);
+
 enum class StopReason {
   target_reached,      ///< face count <= target
   error_limit,         ///< every remaining collapse would exceed max_error

@@ -1,0 +1,125 @@
+// End-to-end: the `visimp` binary's exit codes, messages, streams and outputs.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_meshes.h"
+#include "visimp/io/mesh_io.h"
+
+namespace visimp {
+namespace {
+
+struct AppRun {
+  int code;
+  std::string out, err;
+};
+
+AppRun run(const std::string& args, const std::string& dir, const std::string& stdin_file = "") {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  std::string cmd = std::string(VISIMP_APP) + " " + args + " >" + out + " 2>" + err;
+  if (!stdin_file.empty()) cmd += " <" + stdin_file;
+  const int status = std::system(cmd.c_str());
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+class App : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = test::temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    bunny = test::bundled_mesh("bunny.ply");
+  }
+  std::string dir, bunny;
+};
+
+TEST_F(App, HelpEverywhereExitsZero) {
+  for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help"}) {
+    const AppRun r = run(cmd, dir);
+    EXPECT_EQ(r.code, 0) << cmd;
+    EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
+  }
+  // Defaults in the help come from SimplifyOptions.
+  EXPECT_NE(run("simplify --help", dir).out.find("--max-normal-change DEG"), std::string::npos);
+}
+
+TEST_F(App, SimplifyWritesTheTargetAndAJsonSummary) {
+  const AppRun r = run("simplify " + bunny + " " + dir + "/out.ply --ratio 0.1 --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"target_faces\": 367"), std::string::npos) << r.out;  // round(0.1 × 3674)
+  EXPECT_NE(r.out.find("\"faces_out\": 366"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"stop_reason\": \"target_reached\""), std::string::npos);
+  EXPECT_EQ(read_mesh(dir + "/out.ply").num_faces(), 366u);  // closed: 367 is odd, so one below
+}
+
+TEST_F(App, UsageErrorsExitTwoWithOneLine) {
+  for (const char* args : {"simplify a.ply", "simplify a.ply b.ply --bogus", "simplify a.ply b.ply",
+                           "simplify a.ply b.ply --ratio x", "frobnicate"}) {
+    const AppRun r = run(args, dir);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+}
+
+TEST_F(App, BadInputExitsOneNamingTheFileAndWritesNothing) {
+  const std::string bad = dir + "/bad.ply";
+  std::ofstream(bad) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n";
+  const std::string out = dir + "/out.ply";
+  const AppRun r = run("simplify " + bad + " " + out + " --ratio 0.5", dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("bad.ply"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const AppRun missing = run("info " + dir + "/nope.obj", dir);
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.err.find("nope.obj"), std::string::npos);
+}
+
+TEST_F(App, RefusesToOverwriteTheInput) {
+  const std::string copy = dir + "/in.ply";
+  std::filesystem::copy_file(bunny, copy);
+  const auto before = std::filesystem::file_size(copy);
+  const AppRun r = run("simplify " + copy + " " + copy + " --ratio 0.5", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--in-place"), std::string::npos);
+  EXPECT_EQ(std::filesystem::file_size(copy), before);
+  EXPECT_EQ(run("simplify " + copy + " " + copy + " --ratio 0.5 --in-place", dir).code, 0);
+  EXPECT_EQ(read_mesh(copy).num_faces(), 1836u);  // 3674/2 rounded, minus the odd face
+}
+
+TEST_F(App, PipesThroughStdinAndStdout) {
+  const std::string out = dir + "/piped.obj";
+  const AppRun r = run("simplify - - --ratio 0.5 --format ply --output-format obj --json", dir, bunny);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\nf "), std::string::npos);            // the mesh went to stdout
+  EXPECT_NE(r.err.find("\"faces_out\""), std::string::npos);   // the summary to stderr
+  std::ofstream(out) << r.out;
+  EXPECT_EQ(read_mesh(out).num_faces(), 1836u);
+}
+
+TEST_F(App, InfoReportsTopologyAsJson) {
+  const AppRun r = run("info " + test::bundled_mesh("teapot.ply") + " --json", dir);
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("\"boundary_edges\": 160"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"components\": 3"), std::string::npos);
+}
+
+TEST_F(App, ConvertRoundTripsEveryFormat) {
+  for (const char* ext : {"obj", "off", "stl", "ply"}) {
+    const std::string out = dir + "/bunny." + ext;
+    ASSERT_EQ(run("convert " + bunny + " " + out, dir).code, 0) << ext;
+    EXPECT_EQ(read_mesh(out).num_faces(), 3674u) << ext;
+  }
+}
+
+}  // namespace
+}  // namespace visimp

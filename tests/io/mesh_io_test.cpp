@@ -1,0 +1,195 @@
+#include "visimp/io/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_meshes.h"
+#include "visimp/core/errors.h"
+#include "visimp/core/mesh_stats.h"
+
+namespace visimp {
+namespace {
+
+// A mesh with everything the formats must keep: a non-manifold edge, a misoriented pair,
+// a duplicate face, a zero-area face, an isolated vertex, and quality on both elements.
+Mesh awkward_mesh() {
+  Mesh m = test::grid(2);
+  const VertexIndex top = VertexIndex(m.positions.size());
+  m.positions.push_back({0.5, 0.5, 1.0});
+  m.faces.push_back({0, 4, top});                        // third face on edge 0-4: non-manifold
+  m.faces.push_back(m.faces[0]);                         // duplicate
+  m.faces.push_back({0, 1, 2});                          // collinear: zero area
+  m.positions.push_back({7, 7, 7});                      // isolated
+  for (std::size_t v = 0; v < m.num_vertices(); ++v) m.vertex_quality.push_back(0.25f * float(v));
+  for (std::size_t f = 0; f < m.num_faces(); ++f) m.face_quality.push_back(1.0f / float(f + 1));
+  return m;
+}
+
+Mesh round_trip(const Mesh& m, Format format, bool binary) {
+  std::stringstream buffer;
+  WriteOptions w;
+  w.binary = binary;
+  write_mesh(m, buffer, format, w);
+  return read_mesh_from_bytes(buffer.str(), format, "memory");
+}
+
+void expect_same_faces(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.num_faces(), b.num_faces());
+  for (std::size_t f = 0; f < a.num_faces(); ++f) EXPECT_EQ(a.faces[f], b.faces[f]) << "face " << f;
+}
+
+TEST(MeshIo, PlyBinaryKeepsEverythingIncludingQuality) {
+  const Mesh m = awkward_mesh();
+  const Mesh r = round_trip(m, Format::ply, true);
+  expect_same_faces(m, r);
+  ASSERT_EQ(r.num_vertices(), m.num_vertices());
+  for (std::size_t v = 0; v < m.num_vertices(); ++v) EXPECT_EQ(r.positions[v], m.positions[v]);
+  EXPECT_EQ(r.vertex_quality, m.vertex_quality);
+  EXPECT_EQ(r.face_quality, m.face_quality);
+  const MeshStats s = analyze(r);
+  EXPECT_EQ(s.non_manifold_edges, analyze(m).non_manifold_edges);
+  EXPECT_EQ(s.duplicate_faces, 1u);
+  EXPECT_EQ(s.isolated_vertices, 1u);
+}
+
+TEST(MeshIo, PlyAsciiKeepsEverythingIncludingQuality) {
+  const Mesh m = awkward_mesh();
+  const Mesh r = round_trip(m, Format::ply, false);
+  expect_same_faces(m, r);
+  EXPECT_EQ(r.vertex_quality, m.vertex_quality);
+  EXPECT_EQ(r.face_quality, m.face_quality);
+}
+
+TEST(MeshIo, ObjAndOffKeepFacesAndIsolatedVertices) {
+  const Mesh m = awkward_mesh();
+  for (Format f : {Format::obj, Format::off}) {
+    const Mesh r = round_trip(m, f, true);
+    expect_same_faces(m, r);
+    EXPECT_EQ(r.num_vertices(), m.num_vertices());
+    for (std::size_t v = 0; v < m.num_vertices(); ++v) EXPECT_EQ(r.positions[v], m.positions[v]);
+  }
+}
+
+TEST(MeshIo, StlKeepsEveryFaceInBothEncodings) {
+  Mesh m = awkward_mesh();
+  m.positions.pop_back();  // STL cannot hold an isolated vertex
+  m.vertex_quality.clear();
+  m.face_quality.clear();
+  for (bool binary : {true, false}) {
+    const Mesh r = round_trip(m, Format::stl, binary);
+    // Welding exact duplicates recovers the shared vertices (numbered by first use), so every
+    // face comes back with the same corner positions.
+    ASSERT_EQ(r.num_faces(), m.num_faces());
+    EXPECT_EQ(r.num_vertices(), m.num_vertices());
+    for (std::size_t f = 0; f < m.num_faces(); ++f)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(r.positions[r.faces[f][k]], m.positions[m.faces[f][k]]);
+  }
+}
+
+TEST(MeshIo, PlyWritesDoubleOnlyWhenFloatWouldLosePrecision) {
+  Mesh m = test::grid(1);
+  std::stringstream plain;
+  write_mesh(m, plain, Format::ply);
+  EXPECT_NE(plain.str().find("property float x"), std::string::npos);
+  // A 1 mm square at x = 1e7 mm: float's spacing there is 1 mm, the whole size of the mesh.
+  for (Vec3& p : m.positions) p = Vec3{1e7 + 1e-3 * p.x, 1e-3 * p.y, 0};
+  std::stringstream far;
+  write_mesh(m, far, Format::ply);
+  EXPECT_NE(far.str().find("property double x"), std::string::npos);
+  const Mesh r = read_mesh_from_bytes(far.str(), Format::ply, "far.ply");
+  for (std::size_t v = 0; v < m.num_vertices(); ++v) EXPECT_EQ(r.positions[v], m.positions[v]);
+}
+
+TEST(MeshIo, ReadsBigEndianPlyWithExtraPropertiesAndElements) {
+  // Header: doubles, an extra uchar per vertex, an int-indexed list, a trailing element.
+  std::string bytes =
+      "ply\nformat binary_big_endian 1.0\ncomment test\nelement vertex 3\n"
+      "property double x\nproperty double y\nproperty double z\nproperty uchar red\n"
+      "element face 1\nproperty list uchar uint vertex_indices\nproperty float quality\n"
+      "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  auto put_be = [&bytes](const void* p, std::size_t n) {
+    const char* c = static_cast<const char*>(p);
+    for (std::size_t i = 0; i < n; ++i) bytes.push_back(c[n - 1 - i]);
+  };
+  const double coords[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}};
+  for (const auto& v : coords) {
+    for (double c : v) put_be(&c, 8);
+    bytes.push_back(char(200));
+  }
+  bytes.push_back(3);
+  for (std::uint32_t i : {0u, 1u, 2u}) put_be(&i, 4);
+  const float q = 0.5f;
+  put_be(&q, 4);
+  for (std::int32_t i : {0, 1}) put_be(&i, 4);
+  const Mesh m = read_mesh_from_bytes(bytes, Format::ply, "be.ply");
+  ASSERT_EQ(m.num_vertices(), 3u);
+  EXPECT_EQ(m.positions[2], (Vec3{0, 2, 0}));
+  ASSERT_EQ(m.num_faces(), 1u);
+  EXPECT_EQ(m.faces[0], (Face{0, 1, 2}));
+  EXPECT_EQ(m.face_quality, std::vector<float>{0.5f});
+}
+
+TEST(MeshIo, ObjNegativeIndicesSlashFormsAndPolygons) {
+  const std::string obj =
+      "# square as one quad, then a triangle by relative indices\n"
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n"
+      "f 1/1/1 2/1/1 3//1 4\n"
+      "v 2 0 0\n"
+      "f -4 -1 -3\n";
+  const Mesh m = read_mesh_from_bytes(obj, Format::obj, "t.obj");
+  ASSERT_EQ(m.num_faces(), 3u);  // the quad is fanned into 2 triangles
+  EXPECT_EQ(m.faces[0], (Face{0, 1, 2}));
+  EXPECT_EQ(m.faces[1], (Face{0, 2, 3}));
+  EXPECT_EQ(m.faces[2], (Face{1, 4, 2}));
+}
+
+TEST(MeshIo, OffWithColoursAndComments) {
+  const std::string off = "COFF\n# comment\n4 2 0\n0 0 0 255 0 0 255\n1 0 0 1 2 3 4\n1 1 0 1 2 3 4\n0 1 0 1 2 3 4\n"
+                          "4 0 1 2 3 255 0 0\n3 0 1 3\n";
+  const Mesh m = read_mesh_from_bytes(off, Format::off, "t.off");
+  EXPECT_EQ(m.num_faces(), 3u);
+}
+
+TEST(MeshIo, RealMeshesRoundTripThroughEveryFormat) {
+  const Mesh m = read_mesh(test::bundled_mesh("bunny.ply"));
+  EXPECT_EQ(m.num_faces(), 3674u);  // meshes/SOURCES.md
+  for (Format f : {Format::ply, Format::obj, Format::off, Format::stl}) {
+    const Mesh r = round_trip(m, f, true);
+    EXPECT_EQ(r.num_faces(), m.num_faces()) << format_name(f);
+  }
+}
+
+TEST(MeshIo, WriteIsAtomicAndLeavesNoTemporaryFiles) {
+  const std::string dir = test::temp_dir("atomic");
+  const std::string path = dir + "/out.ply";
+  write_mesh(test::grid(2), path);
+  write_mesh(test::grid(3), path);  // replaces the file in one rename
+  EXPECT_EQ(read_mesh(path).num_faces(), 18u);
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1u);
+}
+
+TEST(MeshIo, FailedWriteKeepsTheOldFile) {
+  const std::string dir = test::temp_dir("failed_write");
+  const std::string path = dir + "/out.ply";
+  write_mesh(test::grid(2), path);
+  Mesh bad = test::grid(1);
+  bad.faces.push_back({0, 1, 42});  // invalid: refused before anything is written
+  EXPECT_THROW(write_mesh(bad, path), InvalidMeshError);
+  EXPECT_EQ(read_mesh(path).num_faces(), 8u);
+}
+
+TEST(MeshIo, FormatFromPath) {
+  EXPECT_EQ(format_from_path("a/b.PLY"), Format::ply);
+  EXPECT_EQ(format_from_path("x.stl"), Format::stl);
+  EXPECT_THROW(format_from_path("x.dae"), UsageError);
+  EXPECT_THROW(format_from_path("noext"), UsageError);
+}
+
+}  // namespace
+}  // namespace visimp

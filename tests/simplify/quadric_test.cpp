@@ -1,0 +1,58 @@
+#include "visimp/simplify/quadric.h"
+
+#include <gtest/gtest.h>
+
+namespace visimp {
+namespace {
+
+TEST(Quadric, PlaneMeasuresWeightedSquaredDistance) {
+  const Quadric q = Quadric::plane({0, 0, 1}, {0, 0, 2}, 3.0);  // 3·(z - 2)²
+  EXPECT_DOUBLE_EQ(q.evaluate({5, -1, 4}), 12.0);
+  EXPECT_DOUBLE_EQ(q.evaluate({1, 1, 2}), 0.0);
+  EXPECT_DOUBLE_EQ(q.area, 3.0);
+}
+
+TEST(Quadric, ThreePlanesPlaceAtTheirCorner) {
+  Quadric q = Quadric::plane({1, 0, 0}, {1, 0, 0}, 1) + Quadric::plane({0, 1, 0}, {0, 2, 0}, 1) +
+              Quadric::plane({0, 0, 1}, {0, 0, 3}, 1);
+  const Placement p = place(q, {0.9, 1.9, 2.9}, {1.2, 2.1, 3.2});
+  EXPECT_EQ(p.kind, PlacementKind::optimal);
+  EXPECT_NEAR(p.position.x, 1, 1e-12);
+  EXPECT_NEAR(p.position.y, 2, 1e-12);
+  EXPECT_NEAR(p.position.z, 3, 1e-12);
+}
+
+TEST(Quadric, SinglePlaneIsSingularAndKeepsAnEndpoint) {
+  // A flat region: A has rank 1. Both endpoints lie on the plane, so either is optimal and the
+  // placement keeps one exactly instead of inventing a point.
+  const Quadric q = Quadric::plane({0, 0, 1}, {0, 0, 0}, 1);
+  const Placement p = place(q, {0, 0, 0}, {1, 0, 0});
+  EXPECT_EQ(p.kind, PlacementKind::endpoint0);
+  EXPECT_EQ(p.position, (Vec3{0, 0, 0}));
+}
+
+TEST(Quadric, NearlySingularPlacementStaysNearTheEdge) {
+  // Two planes 1e-7 rad apart: the exact minimiser of A x = -b lies ~1e6 away along their
+  // near-common line. The rank-revealing solve must not go there.
+  const double e = 1e-7;
+  const Quadric q = Quadric::plane({0, 0, 1}, {0, 0, 0.01}, 1) + Quadric::plane({0, std::sin(e), std::cos(e)}, {0, 0, 0}, 1);
+  const Placement p = place(q, {0, 0, 0}, {0, 1, 0});
+  EXPECT_LT(norm(p.position - Vec3{0, 0.5, 0}), 2.0);
+  EXPECT_TRUE(is_finite(p.position));
+}
+
+TEST(Quadric, EmptyQuadricKeepsAnEndpoint) {
+  const Placement p = place(Quadric{}, {1, 2, 3}, {4, 5, 6});
+  EXPECT_EQ(p.position, (Vec3{1, 2, 3}));
+}
+
+TEST(Quadric, FarAwayOptimumFallsBackToTheSegment) {
+  // Three planes meeting at (100, 0, 0), edge near the origin: the optimum is 100 edge lengths away.
+  const Quadric q = Quadric::plane({1, 0, 0}, {100, 0, 0}, 1) + Quadric::plane({0, 1, 0}, {0, 0, 0}, 1) +
+                    Quadric::plane({0, 0, 1}, {0, 0, 0}, 1);
+  const Placement p = place(q, {0, 0, 0}, {1, 0, 0});
+  EXPECT_EQ(p.kind, PlacementKind::endpoint1);  // the segment's best point is its end at x = 1
+}
+
+}  // namespace
+}  // namespace visimp

@@ -1,0 +1,321 @@
+#include "visimp/simplify/simplify.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "test_meshes.h"
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
+#include "visimp/core/mesh_stats.h"
+#include "visimp/core/validate.h"
+#include "visimp/io/mesh_io.h"
+#include "visimp/metrics/surface_distance.h"
+
+namespace visimp {
+namespace {
+
+Simplified simplify_to(const Mesh& m, std::size_t target) {
+  SimplifyOptions o;
+  o.target_faces = target;
+  return simplify(m, o);
+}
+
+void expect_all_finite(const Mesh& m) {
+  for (const Vec3& p : m.positions) ASSERT_TRUE(is_finite(p));
+}
+
+TEST(Simplify, FlatGridBecomesTwoTrianglesWithZeroError) {
+  const Mesh g = test::grid(8);  // 128 faces
+  const Simplified s = simplify_to(g, 2);
+  EXPECT_EQ(s.mesh.num_faces(), 2u);
+  EXPECT_EQ(s.result.stop_reason, StopReason::target_reached);
+  EXPECT_EQ(s.result.max_error, 0.0);
+  // The survivors are the four corners, exactly.
+  std::set<std::pair<double, double>> corners;
+  for (const Face& f : s.mesh.faces)
+    for (VertexIndex v : f) corners.insert({s.mesh.positions[v].x, s.mesh.positions[v].y});
+  EXPECT_EQ(corners, (std::set<std::pair<double, double>>{{0, 0}, {8, 0}, {0, 8}, {8, 8}}));
+  EXPECT_NEAR(analyze(s.mesh).area, 64.0, 1e-12);
+}
+
+TEST(Simplify, CubeKeepsItsEightCornersExactly) {
+  const Mesh cube = test::subdivided_cube(4);  // 192 faces
+  const Simplified s = simplify_to(cube, 12);
+  EXPECT_EQ(s.mesh.num_faces(), 12u);
+  EXPECT_EQ(s.mesh.num_vertices(), 8u);
+  for (const Vec3& p : s.mesh.positions)
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(p[k] == 0.0 || p[k] == 1.0) << p.x << " " << p.y << " " << p.z;
+  EXPECT_TRUE(analyze(s.mesh).closed_manifold());
+  EXPECT_NEAR(analyze(s.mesh).area, 6.0, 1e-12);
+}
+
+// Largest distance of a boundary-ish vertex (|z| tiny) from the square outline of a bumped grid.
+double outline_deviation(const Mesh& m, double size) {
+  double worst = 0;
+  for (const Vec3& p : m.positions) {
+    if (std::abs(p.z) > 1e-3) continue;  // interior of the bump
+    const double d = std::min({std::abs(p.x), std::abs(p.x - size), std::abs(p.y), std::abs(p.y - size)});
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+TEST(Simplify, OpenGridKeepsItsBoundaryOutline) {
+  // A grid bent into a gentle bump (z = 0 on the outline) keeps its square outline: boundary
+  // planes hold the outline's vertices on it (up to the compromise with the face planes) and
+  // its corners in place.
+  Mesh g = test::grid(10);
+  for (Vec3& p : g.positions) p.z = 0.3 * std::sin(p.x / 10 * M_PI) * std::sin(p.y / 10 * M_PI);
+  const Simplified s = simplify_to(g, 40);
+  EXPECT_LE(s.mesh.num_faces(), 40u);
+  EXPECT_LT(outline_deviation(s.mesh, 10), 1e-3);  // 1e-4 of the size
+  const BoundingBox box = analyze(s.mesh).bbox;
+  EXPECT_NEAR(box.min.x, 0, 1e-3);
+  EXPECT_NEAR(box.max.x, 10, 1e-3);
+  EXPECT_NEAR(box.min.y, 0, 1e-3);
+  EXPECT_NEAR(box.max.y, 10, 1e-3);
+  // Without boundary planes the same run lets the outline wander: the check above can fail.
+  SimplifyOptions loose;
+  loose.target_faces = 40;
+  loose.boundary_weight = 0;
+  const Simplified l = simplify(g, loose);
+  const BoundingBox lb = analyze(l.mesh).bbox;
+  EXPECT_GT(std::max({outline_deviation(l.mesh, 10), std::abs(lb.min.x), std::abs(lb.max.x - 10),
+                      std::abs(lb.min.y), std::abs(lb.max.y - 10)}), 1e-2);
+}
+
+TEST(Simplify, FrozenBoundaryNeverMoves) {
+  Mesh g = test::grid(6);
+  for (Vec3& p : g.positions) p.z = 0.1 * p.x * p.y;
+  SimplifyOptions o;
+  o.target_ratio = 0.1;
+  o.freeze_boundary = true;
+  const Simplified s = simplify(g, o);
+  std::size_t outline = 0;
+  for (const Vec3& p : s.mesh.positions) outline += (p.x == 0 || p.x == 6 || p.y == 0 || p.y == 6);
+  EXPECT_EQ(outline, 24u);  // all 24 outline vertices of the 7×7 lattice
+  EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
+}
+
+TEST(Simplify, ClosedMeshWithOddTargetEndsOneBelow) {
+  const Mesh sphere = test::icosphere(2);  // 320 faces; a closed mesh loses 2 per collapse
+  const Simplified s = simplify_to(sphere, 101);
+  EXPECT_EQ(s.mesh.num_faces(), 100u);
+  EXPECT_EQ(s.result.stop_reason, StopReason::target_reached);
+}
+
+TEST(Simplify, StopsAtTheErrorLimit) {
+  const Mesh sphere = test::icosphere(3);
+  SimplifyOptions o;
+  o.max_error = 1e-3;
+  const Simplified s = simplify(sphere, o);
+  EXPECT_EQ(s.result.stop_reason, StopReason::error_limit);
+  EXPECT_LE(s.result.max_error, 1e-3);
+  EXPECT_LT(s.mesh.num_faces(), sphere.num_faces());
+  EXPECT_GT(s.mesh.num_faces(), 20u);
+}
+
+TEST(Simplify, TetrahedronCannotCollapseFurther) {
+  const Mesh sphere = test::icosphere(1);
+  const Simplified s = simplify_to(sphere, 1);
+  EXPECT_EQ(s.mesh.num_faces(), 4u);
+  EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
+  EXPECT_TRUE(analyze(s.mesh).closed_manifold());
+}
+
+TEST(Simplify, RejectsBadOptions) {
+  const Mesh g = test::grid(2);
+  SimplifyOptions o;
+  EXPECT_THROW(simplify(g, o), UsageError);  // no target and no error limit
+  o.target_ratio = 1.5;
+  EXPECT_THROW(simplify(g, o), UsageError);
+  o.target_ratio = 0.5;
+  o.max_normal_change_deg = 0;
+  EXPECT_THROW(simplify(g, o), UsageError);
+}
+
+// The bunny far from the origin and at a tiny scale must simplify to the same shape: same
+// relative error within 1% as at the origin (DESIGN.md numerical rules).
+TEST(Simplify, OffsetAndScaleDoNotChangeTheRelativeError) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  Mesh moved = bunny;
+  for (Vec3& p : moved.positions) p = (p + Vec3{1e7, -1e7, 1e7}) * 1e-6;
+  SimplifyOptions o;
+  o.target_ratio = 0.1;
+  const Simplified a = simplify(bunny, o), b = simplify(moved, o);
+  EXPECT_EQ(a.mesh.num_faces(), b.mesh.num_faces());
+  SurfaceDistanceOptions d;
+  d.samples = 100000;
+  const SurfaceDistance da = surface_distance(bunny, a.mesh, d), db = surface_distance(moved, b.mesh, d);
+  EXPECT_NEAR(db.rms / db.diagonal, da.rms / da.diagonal, 0.01 * da.rms / da.diagonal);
+  EXPECT_NEAR(db.hausdorff / db.diagonal, da.hausdorff / da.diagonal, 0.01 * da.hausdorff / da.diagonal);
+  EXPECT_NEAR(b.result.max_error, a.result.max_error, 0.01 * a.result.max_error);
+}
+
+TEST(Simplify, SliversAndZeroAreaFacesGiveFiniteOutput) {
+  // A grid whose middle column is squashed to 1e-9 wide (slivers), plus collinear and
+  // coincident-vertex faces glued on.
+  Mesh g = test::grid(6);
+  for (Vec3& p : g.positions)
+    if (p.x == 3) p.x = 2 + 1e-9;
+  const VertexIndex base = VertexIndex(g.positions.size());
+  g.positions.push_back({0, -1, 0});
+  g.positions.push_back({0, -1, 0});  // coincident with the previous one
+  g.faces.push_back({0, 1, base});    // a proper face below the grid
+  g.faces.push_back({base, 1, base + 1});  // zero area: two coincident corners
+  const Simplified s = simplify_to(g, 10);
+  expect_all_finite(s.mesh);
+  EXPECT_TRUE(validate(s.mesh).ok());
+  EXPECT_LE(s.mesh.num_faces(), 10u);
+}
+
+TEST(Simplify, HundredThousandZeroAreaFacesAreHarmless) {
+  // All faces collinear: no face has a plane, every collapse costs 0, nothing divides by zero.
+  Mesh m;
+  for (int i = 0; i < 50002; ++i) m.positions.push_back({double(i), 0, 0});
+  for (VertexIndex i = 0; i + 2 < 50002; i += 1) m.faces.push_back({i, i + 1, i + 2});
+  for (VertexIndex i = 0; i + 2 < 50002; i += 1) m.faces.push_back({i, i + 2, i + 1});
+  ASSERT_EQ(m.num_faces(), 100000u);
+  const Simplified s = simplify_to(m, 1000);
+  expect_all_finite(s.mesh);
+  EXPECT_TRUE(validate(s.mesh).ok());
+}
+
+TEST(Simplify, DuplicateFacesAndAFourFaceEdgeAreKeptLocked) {
+  // A closed sphere with one face duplicated and a "fin" of two extra faces on one edge (4
+  // faces there): those vertices are locked and the rest simplifies around them.
+  Mesh m = test::icosphere(3);
+  const Face dup = m.faces[0];
+  m.faces.push_back(dup);
+  const Face f1 = m.faces[100];
+  const VertexIndex tip = VertexIndex(m.positions.size());
+  m.positions.push_back(m.positions[f1[0]] * 1.5);
+  m.faces.push_back({f1[0], f1[1], tip});
+  m.faces.push_back({f1[1], f1[0], tip});
+  const MeshStats before = analyze(m);
+  ASSERT_GE(before.non_manifold_edges, 1u);
+  const Simplified s = simplify_to(m, 200);
+  EXPECT_GT(s.result.locked_vertices, 0u);
+  EXPECT_LE(s.mesh.num_faces(), 201u);
+  const MeshStats after = analyze(s.mesh);
+  EXPECT_LE(after.non_manifold_edges, before.non_manifold_edges);
+  EXPECT_EQ(after.duplicate_faces, before.duplicate_faces);  // duplicates stay, untouched
+  for (const Vec3& p : {m.positions[dup[0]], m.positions[dup[1]], m.positions[dup[2]], m.positions[tip]})
+    EXPECT_NE(std::find(s.mesh.positions.begin(), s.mesh.positions.end(), p), s.mesh.positions.end());
+}
+
+// ---- invariants over every real mesh ---------------------------------------------------
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Triangle = Kernel::Triangle_3;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::iterator>>>;
+
+// Fraction of output faces whose normal points against the input surface's normal at the
+// closest point: a flipped (folded-over) face shows up here.
+double flipped_fraction(const Mesh& input, const Mesh& output) {
+  std::vector<Triangle> triangles;
+  std::vector<Vec3> normals;
+  for (const Face& f : input.faces) {
+    if (is_degenerate(input, f)) continue;
+    auto pt = [&](VertexIndex v) { return Kernel::Point_3(input.positions[v].x, input.positions[v].y, input.positions[v].z); };
+    triangles.emplace_back(pt(f[0]), pt(f[1]), pt(f[2]));
+    normals.push_back(face_normal_unnormalized(input, f));
+  }
+  Tree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  std::size_t flipped = 0, counted = 0;
+  for (const Face& f : output.faces) {
+    if (is_degenerate(output, f)) continue;
+    const Vec3 c = (output.positions[f[0]] + output.positions[f[1]] + output.positions[f[2]]) / 3.0;
+    const auto hit = tree.closest_point_and_primitive(Kernel::Point_3(c.x, c.y, c.z));
+    const Vec3 n_in = normals[std::size_t(hit.second - triangles.begin())];
+    const Vec3 n_out = face_normal_unnormalized(output, f);
+    ++counted;
+    flipped += dot(n_in, n_out) < -0.5 * norm(n_in) * norm(n_out);
+  }
+  return counted ? double(flipped) / double(counted) : 0.0;
+}
+
+// Manifold edges whose two faces fold back onto each other (normals more than ~154° apart).
+std::size_t fold_edges(const Mesh& m) {
+  std::map<std::pair<VertexIndex, VertexIndex>, std::vector<std::size_t>> edge_faces;
+  for (std::size_t f = 0; f < m.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) edge_faces[std::minmax(m.faces[f][k], m.faces[f][(k + 1) % 3])].push_back(f);
+  std::size_t folds = 0;
+  for (const auto& [edge, faces] : edge_faces) {
+    if (faces.size() != 2) continue;
+    const Vec3 a = face_normal_unnormalized(m, m.faces[faces[0]]), b = face_normal_unnormalized(m, m.faces[faces[1]]);
+    folds += dot(a, b) < -0.9 * norm(a) * norm(b);
+  }
+  return folds;
+}
+
+// Meshes that are one layer of surface (no thin plates or enclosed parts), where the closest
+// input point to an output face lies on the same side.
+bool single_layer(const std::string& path) {
+  for (const char* name : {"bunny", "fandisk", "teapot", "aneurysm"})
+    if (path.find(name) != std::string::npos) return true;
+  return false;
+}
+
+class RealMeshInvariants : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RealMeshInvariants, SimplifyKeepsEveryPromise) {
+  const Mesh input = read_mesh(GetParam());
+  const Mesh copy = input;
+  const MeshStats before = analyze(input);
+  for (double ratio : {0.5, 0.1}) {
+    SCOPED_TRACE(ratio);
+    SimplifyOptions o;
+    o.target_ratio = ratio;
+    const Simplified s = simplify(input, o);
+    expect_all_finite(s.mesh);
+    EXPECT_TRUE(validate(s.mesh).ok());
+    const std::size_t target = s.result.target_faces;
+    if (s.result.stop_reason == StopReason::target_reached) {
+      EXPECT_LE(s.mesh.num_faces(), target);
+      EXPECT_GE(s.mesh.num_faces() + 1, target);
+    } else {
+      // Only locked (non-manifold) parts may stop a run early, and then it says so.
+      EXPECT_GT(before.non_manifold_edges + before.non_manifold_vertices, 0u) << to_string(s.result.stop_reason);
+      EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
+    }
+    const MeshStats after = analyze(s.mesh);
+    EXPECT_LE(after.non_manifold_edges, before.non_manifold_edges);
+    EXPECT_LE(after.misoriented_edges, before.misoriented_edges);
+    EXPECT_LE(after.boundary_edges, before.boundary_edges);
+    EXPECT_TRUE(std::isfinite(s.result.max_error));
+    // A closed 2-manifold input stays closed and manifold.
+    if (before.closed_manifold()) {
+      EXPECT_TRUE(after.closed_manifold());
+    }
+    // No flipped faces on single-layer surfaces: at most 0.5% of faces point against the
+    // input near them, and no edge folds back onto itself. (Thin CAD plates are flattened
+    // into back-to-back sheets at high ratios: known, see docs/simplify.md.)
+    if (single_layer(GetParam())) {
+      EXPECT_LE(flipped_fraction(input, s.mesh), 0.005);
+      EXPECT_EQ(fold_edges(s.mesh), 0u);
+    }
+  }
+  EXPECT_EQ(input.faces, copy.faces);  // input never modified
+  EXPECT_EQ(input.positions.size(), copy.positions.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, RealMeshInvariants, ::testing::ValuesIn(test::real_mesh_paths()),
+                         [](const auto& param_info) {
+                           const std::string& path = param_info.param;
+                           std::string name = path.substr(path.find_last_of('/') + 1);
+                           name = name.substr(0, name.find('.'));
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace visimp
