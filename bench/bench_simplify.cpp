@@ -1,0 +1,222 @@
+// Simplification benchmark: visimp QB against meshoptimizer, CGAL (Garland-Heckbert plane
+// policies) and OpenMesh (Decimater + ModQuadricT), on the same meshes, in one run.
+//
+// Each method runs in a forked child so its CPU time and peak memory are its own: CPU is the
+// child's process CPU clock around the call (building the peer's mesh structure included),
+// memory is the child's peak RSS (VmHWM, reset at fork) minus its RSS at fork. The parent then measures every
+// result against the input with the same sampled two-sided distance (visimp metrics, 1M
+// samples per direction, fixed seed) and prints ratios against visimp.
+//
+// usage: bench_simplify [MESH.ply ...]   (default: dragon, kicad_dsub62_male, fandisk_cad)
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <meshoptimizer.h>
+
+#include <cfloat>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "visimp/io/mesh_io.h"
+#include "visimp/metrics/surface_distance.h"
+#include "visimp/simplify/simplify.h"
+
+namespace {
+
+using visimp::Face;
+using visimp::Mesh;
+using visimp::Vec3;
+using visimp::VertexIndex;
+
+Mesh run_visimp(const Mesh& in, std::size_t target) {
+  visimp::SimplifyOptions o;
+  o.target_faces = target;
+  return visimp::simplify(in, o).mesh;
+}
+
+Mesh run_meshopt(const Mesh& in, std::size_t target) {
+  std::vector<float> xyz;
+  xyz.reserve(in.num_vertices() * 3);
+  for (const Vec3& p : in.positions) xyz.insert(xyz.end(), {float(p.x), float(p.y), float(p.z)});
+  std::vector<unsigned> indices;
+  indices.reserve(in.num_faces() * 3);
+  for (const Face& f : in.faces) indices.insert(indices.end(), f.begin(), f.end());
+  std::vector<unsigned> out(indices.size());
+  float error = 0;
+  const std::size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), xyz.data(), in.num_vertices(),
+                                         3 * sizeof(float), target * 3, FLT_MAX, 0, &error);
+  Mesh m;
+  m.positions = in.positions;
+  for (std::size_t i = 0; i < n; i += 3) m.faces.push_back({out[i], out[i + 1], out[i + 2]});
+  return m;
+}
+
+Mesh run_cgal(const Mesh& in, std::size_t target) {
+  using Kernel = CGAL::Simple_cartesian<double>;
+  using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
+  namespace SMS = CGAL::Surface_mesh_simplification;
+  SurfaceMesh sm;
+  std::vector<SurfaceMesh::Vertex_index> vs;
+  for (const Vec3& p : in.positions) vs.push_back(sm.add_vertex(Kernel::Point_3(p.x, p.y, p.z)));
+  for (const Face& f : in.faces) sm.add_face(vs[f[0]], vs[f[1]], vs[f[2]]);
+  // CGAL 5.5 counts edges, not faces: a closed triangle mesh has 3/2 edges per face.
+  SMS::Count_stop_predicate<SurfaceMesh> stop(target * 3 / 2);
+  SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> gh(sm);
+  SMS::edge_collapse(sm, stop, CGAL::parameters::get_cost(gh.get_cost()).get_placement(gh.get_placement()));
+  sm.collect_garbage();
+  Mesh m;
+  for (auto v : sm.vertices()) m.positions.push_back({sm.point(v).x(), sm.point(v).y(), sm.point(v).z()});
+  for (auto f : sm.faces()) {
+    Face t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[std::size_t(k++)] = VertexIndex(v.idx());
+    m.faces.push_back(t);
+  }
+  return m;
+}
+
+Mesh run_openmesh(const Mesh& in, std::size_t target) {
+  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+  OMesh om;
+  std::vector<OMesh::VertexHandle> vs;
+  for (const Vec3& p : in.positions) vs.push_back(om.add_vertex(OMesh::Point(float(p.x), float(p.y), float(p.z))));
+  for (const Face& f : in.faces) om.add_face(vs[f[0]], vs[f[1]], vs[f[2]]);
+  OpenMesh::Decimater::DecimaterT<OMesh> decimater(om);
+  OpenMesh::Decimater::ModQuadricT<OMesh>::Handle quadric;
+  decimater.add(quadric);
+  decimater.module(quadric).unset_max_err();
+  decimater.initialize();
+  decimater.decimate_to_faces(0, target);
+  om.garbage_collection();
+  Mesh m;
+  for (auto v : om.vertices()) m.positions.push_back({om.point(v)[0], om.point(v)[1], om.point(v)[2]});
+  for (auto f : om.faces()) {
+    Face t{};
+    int k = 0;
+    for (auto v : om.fv_range(f)) t[std::size_t(k++)] = VertexIndex(v.idx());
+    m.faces.push_back(t);
+  }
+  return m;
+}
+
+long rss_kb() {
+  std::ifstream statm("/proc/self/statm");
+  long size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// Peak RSS since the last reset_peak_rss() (a forked child inherits its parent's peak).
+long peak_rss_kb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+
+void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+struct Measured {
+  bool ok = false;
+  std::size_t faces = 0;
+  double cpu = 0, peak_mb = 0, hausdorff = 0, rms = 0;
+};
+
+// Runs `method` in a child process; the child writes its mesh to `path` and its timing to a pipe.
+Measured measure(const Mesh& input, std::size_t target, const std::function<Mesh(const Mesh&, std::size_t)>& method,
+                 const std::string& path) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    reset_peak_rss();
+    const long base = rss_kb();
+    const double t0 = cpu_seconds();
+    const Mesh out = method(input, target);
+    const double cpu = cpu_seconds() - t0;
+    const double peak_mb = double(peak_rss_kb() - base) / 1024.0;
+    visimp::write_mesh(out, path);
+    const double values[2] = {cpu, peak_mb};
+    if (write(fds[1], values, sizeof values) != sizeof values) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  double values[2] = {0, 0};
+  const bool got = read(fds[0], values, sizeof values) == sizeof values;
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  Measured m;
+  if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return m;
+  const Mesh out = visimp::read_mesh(path);
+  visimp::SurfaceDistanceOptions d;
+  d.samples = 1000000;
+  const visimp::SurfaceDistance dist = visimp::surface_distance(input, out, d);
+  m.ok = true;
+  m.faces = out.num_faces();
+  m.cpu = values[0];
+  m.peak_mb = values[1];
+  m.hausdorff = dist.hausdorff / dist.diagonal;
+  m.rms = dist.rms / dist.diagonal;
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> meshes;
+  for (int i = 1; i < argc; ++i) meshes.push_back(argv[i]);
+  if (meshes.empty())
+    for (const char* f : {"dragon.ply", "kicad_dsub62_male.ply", "fandisk_cad.ply"})
+      meshes.push_back(std::string(VISIMP_SHARED_MESHES_DIR) + "/" + f);
+  const std::vector<std::pair<const char*, std::function<Mesh(const Mesh&, std::size_t)>>> methods = {
+      {"visimp-qb", run_visimp}, {"meshopt", run_meshopt}, {"cgal-gh", run_cgal}, {"openmesh", run_openmesh}};
+  const std::string tmp = "/tmp/visimp_bench_" + std::to_string(getpid()) + ".ply";
+  std::printf("| mesh | faces in | ratio | method | faces out | CPU s | peak MB | B/tri | Hausdorff/diag | RMS/diag | CPU vs visimp | Hausdorff vs visimp | RMS vs visimp |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& path : meshes) {
+    const Mesh input = visimp::read_mesh(path);
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    for (double ratio : {0.1, 0.01}) {
+      const std::size_t target = std::size_t(ratio * double(input.num_faces()));
+      Measured ref;
+      for (const auto& [label, method] : methods) {
+        const Measured m = measure(input, target, method, tmp);
+        if (!m.ok) {
+          std::printf("| %s | %zu | %g | %s | failed | | | | | | | | |\n", name.c_str(), input.num_faces(), ratio, label);
+          continue;
+        }
+        if (std::string(label) == "visimp-qb") ref = m;
+        std::printf("| %s | %zu | %g | %s | %zu | %.3f | %.1f | %.0f | %.3e | %.3e | %.2f | %.2f | %.2f |\n", name.c_str(),
+                    input.num_faces(), ratio, label, m.faces, m.cpu, m.peak_mb,
+                    m.peak_mb * 1048576.0 / double(input.num_faces()), m.hausdorff, m.rms, m.cpu / ref.cpu,
+                    m.hausdorff / ref.hausdorff, m.rms / ref.rms);
+        std::fflush(stdout);
+      }
+    }
+  }
+  std::remove(tmp.c_str());
+  return 0;
+}
