@@ -8,7 +8,7 @@
 // samples per direction, fixed seed) and prints ratios against visimp.
 //
 // usage: bench_simplify [MESH.ply ...]   (default: dragon, kicad_dsub62_male, fandisk_cad)
-#include <sys/resource.h>
+#include <malloc.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -151,6 +151,7 @@ Measured measure(const Mesh& input, std::size_t target, const std::function<Mesh
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
+    malloc_trim(0);  // hand freed heap pages back, or the method reuses them unseen by RSS
     reset_peak_rss();
     const long base = rss_kb();
     const double t0 = cpu_seconds();
