@@ -10,9 +10,10 @@ namespace visimp {
 
 bool is_degenerate(const Mesh& mesh, const Face& f) {
   if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return true;
-  const Vec3& a = mesh.positions[f[0]];
-  const Vec3& b = mesh.positions[f[1]];
-  const Vec3& c = mesh.positions[f[2]];
+  return is_degenerate_triangle(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]]);
+}
+
+bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double longest2 = std::max({squared_norm(b - a), squared_norm(c - b), squared_norm(a - c)});
   // |cross| = 2·area; relative to the longest edge squared this is ~sin of the smallest
   // angle. Below 1e-13 the normal is rounding noise in double.

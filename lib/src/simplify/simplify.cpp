@@ -254,9 +254,7 @@ class CollapseEngine {
   }
 
   bool is_degenerate_in_unit_frame(const Face& f) const {
-    const Vec3 &a = positions_[f[0]], &b = positions_[f[1]], &c = positions_[f[2]];
-    const double longest2 = std::max({squared_norm(b - a), squared_norm(c - b), squared_norm(a - c)});
-    return !(norm(cross(b - a, c - a)) > 1e-13 * longest2);
+    return is_degenerate_triangle(positions_[f[0]], positions_[f[1]], positions_[f[2]]);
   }
 
   void add_face_quadrics() {
@@ -380,10 +378,8 @@ class CollapseEngine {
         for (int k = 0; k < 3; ++k)
           if (face[k] == p.v0 || face[k] == p.v1) corners[k] = x;
         const Vec3 n_new = cross(corners[1] - corners[0], corners[2] - corners[0]);
-        const double longest2 = std::max({squared_norm(corners[1] - corners[0]), squared_norm(corners[2] - corners[1]),
-                                          squared_norm(corners[0] - corners[2])});
+        if (is_degenerate_triangle(corners[0], corners[1], corners[2])) return false;  // would create a zero-area face
         const double len_new = norm(n_new);
-        if (!(len_new > 1e-13 * longest2)) return false;  // would create a zero-area face
         const double len_old = norm(n_old);
         if (len_old > 0 && dot(n_old, n_new) < cos_max_normal_change_ * len_old * len_new) return false;
       }
