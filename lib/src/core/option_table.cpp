@@ -45,18 +45,6 @@ OptionSpec option_spec(std::string flag, std::string value_name, double& field, 
           [&field, what](std::string_view t) { field = parse_double(t, what); }};
 }
 
-OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help) {
-  std::string what = flag;
-  return {std::move(flag), std::move(value_name), std::move(help), std::to_string(field),
-          [&field, what](std::string_view t) {
-            int v = 0;
-            const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-            if (ec != std::errc() || ptr != t.data() + t.size())
-              throw UsageError(what + ": expected an integer, got '" + std::string(t) + "'");
-            field = v;
-          }};
-}
-
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help) {
   return {std::move(flag), std::move(value_name), std::move(help), field,
           [&field](std::string_view t) { field = std::string(t); }};

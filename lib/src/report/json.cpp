@@ -120,10 +120,4 @@ JsonWriter& JsonWriter::value(std::string_view v) {
   return *this;
 }
 
-JsonWriter& JsonWriter::null() {
-  before_value();
-  out_ << "null";
-  return *this;
-}
-
 }  // namespace visimp

@@ -37,13 +37,6 @@ Quadric& Quadric::operator+=(const Quadric& o) {
   return *this;
 }
 
-Quadric Quadric::scaled(double s) const {
-  Quadric q = *this;
-  q.a00 *= s; q.a01 *= s; q.a02 *= s; q.a11 *= s; q.a12 *= s; q.a22 *= s;
-  q.b0 *= s; q.b1 *= s; q.b2 *= s; q.c *= s; q.area *= s;
-  return q;
-}
-
 double Quadric::evaluate(const Vec3& p) const {
   const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
   const double ay = a01 * p.x + a11 * p.y + a12 * p.z;

@@ -32,8 +32,6 @@ struct UnitFrame {
 
   Vec3 to_unit(const Vec3& p) const { return (p - center) * scale; }
   Vec3 from_unit(const Vec3& q) const { return q / scale + center; }
-  /// Converts a length measured in the unit frame back to input units.
-  double length_from_unit(double d) const { return d / scale; }
 };
 
 UnitFrame unit_frame(const BoundingBox& box);

@@ -22,7 +22,6 @@ struct OptionSpec {
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help);
-OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help);
 /// A switch: present means true.
 OptionSpec switch_spec(std::string flag, bool& field, std::string help);

@@ -28,7 +28,6 @@ class JsonWriter {
   JsonWriter& value(bool v);
   JsonWriter& value(std::string_view v);
   JsonWriter& value(const char* v) { return value(std::string_view(v)); }
-  JsonWriter& null();
 
   template <class T>
   JsonWriter& field(std::string_view name, const T& v) { return key(name).value(v); }

@@ -24,8 +24,6 @@ struct Quadric {
 
   Quadric& operator+=(const Quadric& o);
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
-  /// Every entry (and the area) scaled by s; used for visibility weights V(t)².
-  Quadric scaled(double s) const;
 
   /// Q(p), clamped at 0 (rounding can make it slightly negative).
   double evaluate(const Vec3& p) const;
