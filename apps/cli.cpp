@@ -11,8 +11,12 @@
 
 namespace visimp::app {
 
-ArgParser::ArgParser(std::string usage, std::string description, std::size_t positionals)
-    : usage_(std::move(usage)), description_(std::move(description)), expected_positionals_(positionals) {}
+ArgParser::ArgParser(std::string usage, std::string description, std::size_t min_positionals,
+                     std::size_t max_positionals)
+    : usage_(std::move(usage)),
+      description_(std::move(description)),
+      min_positionals_(min_positionals),
+      max_positionals_(max_positionals) {}
 
 void ArgParser::add(std::vector<OptionSpec> specs) {
   for (auto& s : specs) specs_.push_back(std::move(s));
@@ -45,8 +49,10 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
       positionals_.push_back(a);  // includes "-" (stdin/stdout)
     }
   }
-  if (positionals_.size() != expected_positionals_)
-    throw UsageError("expected " + std::to_string(expected_positionals_) + " file argument(s), got " +
+  if (positionals_.size() < min_positionals_ || positionals_.size() > max_positionals_)
+    throw UsageError("expected " + std::to_string(min_positionals_) +
+                     (max_positionals_ != min_positionals_ ? ".." + std::to_string(max_positionals_) : "") +
+                     " file argument(s), got " +
                      std::to_string(positionals_.size()) + " (usage: " + usage_ + ")");
   return true;
 }

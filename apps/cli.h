@@ -10,6 +10,7 @@
 #include "visimp/core/mesh.h"
 #include "visimp/core/option_table.h"
 #include "visimp/io/mesh_io.h"
+#include "visimp/render/renderer.h"
 #include "visimp/simplify/simplify.h"
 
 namespace visimp::app {
@@ -17,7 +18,10 @@ namespace visimp::app {
 class ArgParser {
  public:
   /// usage: "visimp simplify IN OUT (--target N | --ratio R | --max-error E) [options]".
-  ArgParser(std::string usage, std::string description, std::size_t positionals);
+  ArgParser(std::string usage, std::string description, std::size_t positionals)
+      : ArgParser(std::move(usage), std::move(description), positionals, positionals) {}
+  /// Accepts between min_positionals and max_positionals file arguments.
+  ArgParser(std::string usage, std::string description, std::size_t min_positionals, std::size_t max_positionals);
   void add(OptionSpec spec) { specs_.push_back(std::move(spec)); }
   void add(std::vector<OptionSpec> specs);
   /// Parses args (after the command name). Returns false when --help was printed.
@@ -28,7 +32,7 @@ class ArgParser {
 
  private:
   std::string usage_, description_;
-  std::size_t expected_positionals_;
+  std::size_t min_positionals_, max_positionals_;
   std::vector<OptionSpec> specs_;
   std::vector<std::string> positionals_;
 };
@@ -48,11 +52,12 @@ Mesh read_input(const std::string& path, const StreamOptions& o);
 /// Refuses to overwrite `input` unless --in-place; writes atomically.
 void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o);
 
-class ProgressBar : public SimplifyObserver {
+class ProgressBar : public SimplifyObserver, public RenderObserver {
  public:
   explicit ProgressBar(std::string label);
   ~ProgressBar() override;
   void on_progress(double fraction) override;
+  void on_render_progress(double fraction) override { on_progress(fraction); }
 
  private:
   std::string label_;

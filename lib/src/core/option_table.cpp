@@ -54,4 +54,8 @@ OptionSpec switch_spec(std::string flag, bool& field, std::string help) {
   return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = true; }};
 }
 
+OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help) {
+  return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = false; }};
+}
+
 }  // namespace visimp

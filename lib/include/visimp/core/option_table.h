@@ -25,6 +25,8 @@ OptionSpec option_spec(std::string flag, std::string value_name, double& field, 
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help);
 /// A switch: present means true.
 OptionSpec switch_spec(std::string flag, bool& field, std::string help);
+/// A switch that turns a default-on feature off ("--no-refine"); its default text is the feature's state.
+OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help);
 
 /// Parsers shared by the specs and the apps; they throw UsageError naming `what`.
 double parse_double(std::string_view text, const std::string& what);

@@ -1,0 +1,65 @@
+// What a frame backend produces for one orthographic camera: a face-ID buffer and a depth
+// buffer at R×R (Zhang & Turk 2002, §4: "render the mesh ... with a color-encoding of the
+// polygon ID"), plus the projection that made them so consumers can project vertices the
+// same way.
+//
+// Image conventions (shared by every backend):
+//   - The view covers the scene's bounding sphere: world point p maps to
+//       x = (p·right / radius + 1) · R/2,  y = (p·up / radius + 1) · R/2      (pixels)
+//       depth = (1 - p·direction / radius) / 2                          (0 nearest, 1 far)
+//     with p relative to the sphere centre and right × up = direction, so a face whose
+//     normal points toward the camera is counter-clockwise on screen.
+//   - Pixel (i, j) is row j from the bottom, column i from the left; its centre is
+//     (i + 0.5, j + 0.5). A pixel belongs to a triangle when its centre is inside it or on
+//     a top or left edge (the fill rule of Direct3D and OpenGL implementations).
+//   - ids[j·R + i] = face index + 1, 0 = background; depth = 1 for background.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "visimp/core/mesh.h"
+#include "visimp/core/vec3.h"
+
+namespace visimp {
+
+/// Geometry prepared for rendering: positions relative to the bounding-sphere centre, in
+/// float (relative coordinates keep float precise however far the mesh is from the origin).
+struct RenderScene {
+  std::vector<std::array<float, 3>> positions;
+  std::vector<Face> faces;
+  double radius = 1;             ///< bounding-sphere radius, in the units of `positions`
+  bool cull_back_faces = false;  ///< exact only for closed, outward-oriented meshes
+
+  static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces);
+};
+
+/// An orthographic camera on the bounding sphere looking at its centre.
+struct OrthoView {
+  Vec3 direction;  ///< unit vector from the centre toward the camera
+  Vec3 right, up;  ///< image axes; right × up = direction
+  double radius = 1;
+  int resolution = 480;
+
+  static OrthoView looking_from(const Vec3& direction, double radius, int resolution);
+};
+
+/// One vertex in screen space: pixel coordinates and depth as defined above.
+struct ScreenVertex {
+  float x, y, depth;
+};
+
+/// Projects every scene vertex for `view` (the one projection all backends and consumers use).
+void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out);
+
+struct Frame {
+  OrthoView view;
+  std::vector<std::uint32_t> ids;       ///< R×R, face index + 1, 0 = background
+  std::vector<float> depth;             ///< R×R, 0 nearest .. 1 far/background
+  std::vector<ScreenVertex> vertices;   ///< every scene vertex projected with `view`
+
+  int resolution() const { return view.resolution; }
+};
+
+}  // namespace visimp

@@ -1,0 +1,62 @@
+// Mergeable visibility tallies. Per refined face t and a range of cameras v:
+//
+//     seen(t)  = Σ_v F(t, v) · q(R(v)·N(t))      total(t) = Σ_v q(R(v)·N(t))
+//
+// with q(w) = round(65535 · max(0, w)), so V(t) = seen / total (Zhang & Turk 2002, eq. 4.3;
+// every camera stands for the same area of the sphere). The sums are integers: adding
+// slices in any order, on any number of threads, processes or machines gives the same
+// bits. A camera set has at most 65536 cameras, so a uint32 sum cannot overflow.
+//
+// File format (little-endian): "VISIMPT1", then the header fields in declaration order,
+// the camera ranges, seen[faces], total[faces] (all uint32).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace visimp {
+
+/// Everything that must match for two tallies to be added.
+struct TallyKey {
+  std::uint64_t mesh_hash = 0;       ///< of the input mesh's positions and faces
+  std::uint64_t camera_hash = 0;     ///< of the camera directions
+  std::uint64_t camera_count = 0;    ///< cameras in the whole set
+  std::uint64_t faces = 0;           ///< refined faces
+  std::uint32_t resolution = 0;
+  std::uint32_t flags = 0;           ///< bit 0: fractional F, bit 1: depth test
+  double worst_view_cosine = 0;
+  double depth_tolerance_pixels = 0;
+
+  bool operator==(const TallyKey& o) const;
+  bool operator!=(const TallyKey& o) const { return !(*this == o); }
+};
+
+struct VisibilityTally {
+  static constexpr std::uint32_t kMaxWeight = 65535;
+  static constexpr std::size_t kMaxCameras = 65536;
+
+  TallyKey key;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> camera_ranges;  ///< [first, last), sorted, disjoint
+  std::vector<std::uint32_t> seen, total;
+
+  /// Adds `other`; throws UsageError if the keys differ or camera ranges overlap.
+  void merge(const VisibilityTally& other);
+  /// True when the ranges cover every camera of the set.
+  bool complete() const;
+  /// "0..129, 200..258"
+  std::string describe_ranges() const;
+
+  /// Atomic write; throws IoError.
+  void write(const std::string& path) const;
+  /// Throws IoError naming the file for a wrong magic, truncation or inconsistent sizes.
+  static VisibilityTally read(const std::string& path);
+};
+
+/// Quantised camera weight q(w) (see above).
+inline std::uint32_t quantize_weight(float w) {
+  return w > 0 ? static_cast<std::uint32_t>(w * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f) : 0u;
+}
+
+}  // namespace visimp

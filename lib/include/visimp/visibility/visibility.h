@@ -1,0 +1,111 @@
+// The visibility measure (Zhang & Turk 2002, §3–4): how visible each triangle is from a
+// sphere of orthographic cameras, weighted by viewing angle.
+//
+//   V(t) = Σ_v F(t,v) · max(0, R(v)·N(t)) / Σ_v max(0, R(v)·N(t))           (eq. 4.3)
+//   V(M) = Σ_t area(t) V(t) / Σ_t area(t)                                      (eq. 3.2)
+//
+// F(t, v) = 1 when camera v sees any part of t: t owns a pixel of v's ID buffer, or (the
+// paper's fix for faces smaller than a pixel) the depth at one of t's vertices is within a
+// tolerance of the depth buffer at a neighbouring pixel. With `fractional`, F is instead
+// the fraction of t's projected area that owns pixels (the paper's suggested improvement).
+//
+// Pipeline: refine long edges → render every camera (any Renderer) → tally → V per refined
+// face → V per input face (area-weighted over its sub-faces) and per vertex (area-weighted
+// over incident faces) → V(M).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "visimp/cameras/camera_set.h"
+#include "visimp/core/mesh.h"
+#include "visimp/core/option_table.h"
+#include "visimp/render/renderer.h"
+#include "visimp/visibility/refine.h"
+#include "visimp/visibility/tally.h"
+
+namespace visimp {
+
+struct VisibilityOptions {
+  /// Cosine of the worst viewing angle the refinement targets (0.25 ≈ 75.5°, the paper's
+  /// choice): l = pixel / worst_view_cosine. Range (0, 1].
+  double worst_view_cosine = 0.25;
+  /// Split edges longer than l (the paper's first fix). Off only to study its effect.
+  bool refine = true;
+  /// The depth-tolerance test for faces that own no pixel (the paper's second fix).
+  bool depth_test = true;
+  /// Depth tolerance in pixels, added to the slope allowance (docs/visibility.md). Range [0, 16].
+  double depth_tolerance_pixels = 0.5;
+  /// F = visible fraction of the projected area instead of 0/1.
+  bool fractional = false;
+  /// Refinement budget; more faces than this is an error, not a slow run.
+  std::size_t max_refined_faces = 30'000'000;
+};
+
+std::vector<OptionSpec> describe_options(VisibilityOptions& options);
+/// Throws UsageError for out-of-range values.
+void check_options(const VisibilityOptions& options);
+
+struct VisibilityStats {
+  std::size_t input_faces = 0;
+  std::size_t refined_faces = 0;       ///< faces rendered (= input_faces when no refinement)
+  int refinement_rounds = 0;
+  double max_edge_length = 0;          ///< l, input units
+  std::size_t cameras = 0;
+  int resolution = 0;
+  bool back_faces_culled = false;      ///< the mesh is closed and outward-oriented
+  std::size_t degenerate_faces = 0;    ///< zero area: V is the mean of their vertices' V
+  std::size_t unfaced_faces = 0;       ///< no camera in front of them: V likewise from vertices
+  double seconds_refine = 0, seconds_render = 0, seconds_aggregate = 0, seconds_total = 0;
+};
+
+struct Visibility {
+  std::vector<float> face;    ///< V(t) per input face, in [0, 1]
+  std::vector<float> vertex;  ///< per vertex, area-weighted over incident faces
+  double mesh = 0;            ///< V(M)
+  VisibilityStats stats;
+};
+
+/// Holds a mesh prepared for visibility (refined, in render form) so camera slices can be
+/// rendered separately and tallies merged before finish().
+class VisibilityJob {
+ public:
+  /// `resolution` fixes l; the renderer passed to render() must use the same resolution.
+  VisibilityJob(const Mesh& mesh, int resolution, const VisibilityOptions& options);
+
+  /// Tallies cameras [first, last) of `cameras`.
+  VisibilityTally render(const CameraSet& cameras, std::size_t first, std::size_t last, Renderer& renderer,
+                         RenderObserver* observer = nullptr) const;
+
+  /// V from a complete tally (throws UsageError if cameras are missing or the key differs).
+  Visibility finish(const VisibilityTally& tally) const;
+
+  /// What a tally of this job over `cameras` must carry.
+  TallyKey key(const CameraSet& cameras) const;
+  const VisibilityStats& stats() const { return stats_; }
+
+ private:
+  const Mesh& input_;
+  VisibilityOptions options_;
+  int resolution_;
+  std::optional<RefinedMesh> refined_;
+  RenderScene scene_;
+  std::vector<std::array<float, 3>> unit_normals_;  ///< per refined face, zero if degenerate
+  std::vector<std::array<float, 3>> vertex_normals_; ///< per refined vertex, unit or zero
+  std::uint64_t mesh_hash_ = 0;
+  VisibilityStats stats_;
+
+  const Mesh& rendered_mesh() const { return refined_ ? refined_->mesh : input_; }
+};
+
+/// One call: refine, render all cameras, finish.
+Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,
+                              const VisibilityOptions& options = {}, RenderObserver* observer = nullptr);
+
+/// Closed, consistently oriented, every component enclosing positive volume: then every
+/// back face is hidden behind a front face and need not be drawn.
+bool back_faces_always_hidden(const Mesh& mesh);
+
+}  // namespace visimp

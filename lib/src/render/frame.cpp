@@ -1,0 +1,122 @@
+// The projection and worker pool every backend shares (see frame.h and renderer.h).
+#include "visimp/render/frame.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
+#include "visimp/render/renderer.h"
+
+namespace visimp {
+
+RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces) {
+  const BoundingBox box = bounding_box(mesh);
+  const Vec3 center = box.center();
+  RenderScene scene;
+  // 1% margin: no vertex projects onto the image border or to depth exactly 0 or 1.
+  scene.radius = box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0;
+  scene.positions.reserve(mesh.positions.size());
+  for (const Vec3& p : mesh.positions) {
+    const Vec3 q = p - center;
+    scene.positions.push_back({static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z)});
+  }
+  scene.faces = mesh.faces;
+  scene.cull_back_faces = cull_back_faces;
+  return scene;
+}
+
+OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int resolution) {
+  OrthoView view;
+  view.direction = direction / norm(direction);
+  // Keep world +z up on screen unless the camera looks almost along z.
+  const Vec3 helper = std::abs(view.direction.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{0, 1, 0};
+  const Vec3 up = helper - view.direction * dot(view.direction, helper);
+  view.up = up / norm(up);
+  view.right = cross(view.up, view.direction);
+  view.radius = radius;
+  view.resolution = resolution;
+  return view;
+}
+
+void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out) {
+  const double half = 0.5 * view.resolution;
+  const double pixels_per_unit = half / view.radius;
+  const float rx = static_cast<float>(view.right.x * pixels_per_unit);
+  const float ry = static_cast<float>(view.right.y * pixels_per_unit);
+  const float rz = static_cast<float>(view.right.z * pixels_per_unit);
+  const float ux = static_cast<float>(view.up.x * pixels_per_unit);
+  const float uy = static_cast<float>(view.up.y * pixels_per_unit);
+  const float uz = static_cast<float>(view.up.z * pixels_per_unit);
+  const double depth_per_unit = -0.5 / view.radius;
+  const float dx = static_cast<float>(view.direction.x * depth_per_unit);
+  const float dy = static_cast<float>(view.direction.y * depth_per_unit);
+  const float dz = static_cast<float>(view.direction.z * depth_per_unit);
+  const float offset = static_cast<float>(half);
+  out.resize(scene.positions.size());
+  for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+    const auto& p = scene.positions[i];
+    out[i] = {rx * p[0] + ry * p[1] + rz * p[2] + offset, ux * p[0] + uy * p[1] + uz * p[2] + offset,
+              dx * p[0] + dy * p[1] + dz * p[2] + 0.5f};
+  }
+}
+
+void check_render_options(const RenderOptions& options) {
+  if (options.resolution < 16 || options.resolution > 8192) {
+    throw UsageError("resolution " + std::to_string(options.resolution) + " is outside 16..8192");
+  }
+  if (options.threads > 1024) throw UsageError("thread count " + std::to_string(options.threads) + " is above 1024");
+}
+
+unsigned worker_count(unsigned threads, std::size_t jobs) {
+  unsigned n = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(n, jobs)));
+}
+
+void for_each_camera(std::size_t first, std::size_t last, unsigned workers, RenderObserver* observer,
+                     const std::function<void(unsigned worker, std::size_t camera)>& job) {
+  if (first >= last) return;
+  std::atomic<std::size_t> next{first};
+  std::atomic<std::size_t> done{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::condition_variable finished;
+  auto work = [&](unsigned worker) {
+    try {
+      for (std::size_t camera; !failed && (camera = next++) < last;) {
+        job(worker, camera);
+        ++done;
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+      failed = true;
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    finished.notify_all();
+  };
+  std::vector<std::thread> threads;
+  for (unsigned w = 1; w < workers; ++w) threads.emplace_back(work, w);
+  if (observer == nullptr) {
+    work(0);
+  } else {
+    // Worker 0 runs on its own thread too, so this thread is free to report progress.
+    threads.emplace_back(work, 0u);
+    const std::size_t total = last - first;
+    std::unique_lock<std::mutex> lock(mutex);
+    while (done < total && !failed) {
+      finished.wait_for(lock, std::chrono::milliseconds(100));
+      observer->on_render_progress(static_cast<double>(done) / static_cast<double>(total));
+    }
+  }
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace visimp

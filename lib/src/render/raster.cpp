@@ -1,0 +1,165 @@
+// visimp's CPU rasterizer for ID + depth frames. Only what visibility needs: no colour, no
+// clipping (the view always contains the bounding sphere), no perspective.
+//
+// Vertices are snapped to a 1/256-pixel grid and coverage is decided with exact 64-bit
+// integer edge functions and the top-left fill rule, so two triangles sharing an edge never
+// both own, nor both miss, a pixel centre on it. Depth is interpolated in float from the
+// triangle's plane; ties keep the triangle drawn first (GL_LESS), like the OSMesa backend.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "visimp/render/renderer.h"
+
+namespace visimp {
+namespace {
+
+constexpr int kSubpixelBits = 8;
+constexpr std::int64_t kSubpixel = 1 << kSubpixelBits;
+constexpr std::int64_t kHalfPixel = kSubpixel / 2;
+
+struct FixedPoint {
+  std::int64_t x, y;
+};
+
+FixedPoint snap(const ScreenVertex& v) {
+  return {static_cast<std::int64_t>(std::lround(v.x * static_cast<float>(kSubpixel))),
+          static_cast<std::int64_t>(std::lround(v.y * static_cast<float>(kSubpixel)))};
+}
+
+// For a counter-clockwise triangle in a y-up image, an edge a→b is a "left" edge when it
+// runs downward and a "top" edge when it is horizontal and runs leftward. Pixel centres
+// exactly on other edges are left to the neighbouring triangle: bias 1 turns >= into >.
+std::int64_t fill_rule_bias(const FixedPoint& a, const FixedPoint& b) {
+  const bool left = b.y < a.y;
+  const bool top = b.y == a.y && b.x < a.x;
+  return (left || top) ? 0 : 1;
+}
+
+class RasterRenderer final : public Renderer {
+ public:
+  explicit RasterRenderer(const RenderOptions& options) : options_(options) { check_render_options(options); }
+
+  std::string name() const override { return "raster"; }
+  int resolution() const override { return options_.resolution; }
+
+  void render(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
+              FrameConsumer& consumer, RenderObserver* observer) override {
+    last = std::min(last, cameras.size());
+    const unsigned workers = worker_count(options_.threads, last > first ? last - first : 1);
+    consumer.begin(workers);
+    std::vector<Frame> frames(workers);
+    for_each_camera(first, last, workers, observer, [&](unsigned worker, std::size_t camera) {
+      Frame& frame = frames[worker];
+      frame.view = OrthoView::looking_from(cameras.directions[camera], scene.radius, options_.resolution);
+      draw(scene, frame);
+      consumer.consume(frame, camera, worker);
+    });
+  }
+
+ private:
+  static void draw(const RenderScene& scene, Frame& frame) {
+    const int size = frame.resolution();
+    const std::size_t pixels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+    frame.ids.assign(pixels, 0);
+    frame.depth.assign(pixels, 1.0f);
+    project_vertices(scene, frame.view, frame.vertices);
+    const std::vector<ScreenVertex>& v = frame.vertices;
+    std::uint32_t* ids = frame.ids.data();
+    float* depth = frame.depth.data();
+
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      const Face& face = scene.faces[f];
+      const ScreenVertex* s0 = &v[face[0]];
+      const ScreenVertex* s1 = &v[face[1]];
+      const ScreenVertex* s2 = &v[face[2]];
+      // Cheap reject first: most faces of a big mesh cover no pixel centre at all.
+      const float min_x = std::min({s0->x, s1->x, s2->x}), max_x = std::max({s0->x, s1->x, s2->x});
+      const float min_y = std::min({s0->y, s1->y, s2->y}), max_y = std::max({s0->y, s1->y, s2->y});
+      // Pixel i's centre is i + 0.5; the +-1 slack covers snapping, the exact test follows.
+      int x0 = static_cast<int>(std::ceil(min_x - 0.5f)) - 1, x1 = static_cast<int>(std::floor(max_x - 0.5f)) + 1;
+      int y0 = static_cast<int>(std::ceil(min_y - 0.5f)) - 1, y1 = static_cast<int>(std::floor(max_y - 0.5f)) + 1;
+      x0 = std::max(x0, 0);
+      y0 = std::max(y0, 0);
+      x1 = std::min(x1, size - 1);
+      y1 = std::min(y1, size - 1);
+      if (x0 > x1 || y0 > y1) continue;
+
+      FixedPoint a = snap(*s0), b = snap(*s1), c = snap(*s2);
+      std::int64_t area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+      if (area2 == 0) continue;
+      if (area2 < 0) {
+        if (scene.cull_back_faces) continue;
+        std::swap(b, c);
+        std::swap(s1, s2);
+        area2 = -area2;
+      }
+      // Tighten the box to the snapped corners' exact pixel-centre range.
+      auto first_centre = [](std::int64_t lo) {  // smallest i with 256 i + 128 >= lo
+        const std::int64_t t = lo - kHalfPixel;
+        return static_cast<int>(t >= 0 ? (t + kSubpixel - 1) / kSubpixel : -((-t) / kSubpixel));
+      };
+      auto last_centre = [](std::int64_t hi) {  // largest i with 256 i + 128 <= hi
+        const std::int64_t t = hi - kHalfPixel;
+        return static_cast<int>(t >= 0 ? t / kSubpixel : -((-t + kSubpixel - 1) / kSubpixel));
+      };
+      x0 = std::max(x0, first_centre(std::min({a.x, b.x, c.x})));
+      x1 = std::min(x1, last_centre(std::max({a.x, b.x, c.x})));
+      y0 = std::max(y0, first_centre(std::min({a.y, b.y, c.y})));
+      y1 = std::min(y1, last_centre(std::max({a.y, b.y, c.y})));
+      if (x0 > x1 || y0 > y1) continue;
+
+      // Edge function of edge p→q at pixel centre (x, y): (q - p) × (centre - p), >= 0 inside.
+      const FixedPoint origin{x0 * kSubpixel + kHalfPixel, y0 * kSubpixel + kHalfPixel};
+      auto edge_at_origin = [&](const FixedPoint& p, const FixedPoint& q) {
+        return (q.x - p.x) * (origin.y - p.y) - (q.y - p.y) * (origin.x - p.x) - fill_rule_bias(p, q);
+      };
+      std::int64_t row0 = edge_at_origin(b, c), row1 = edge_at_origin(c, a), row2 = edge_at_origin(a, b);
+      const std::int64_t step_x0 = -(c.y - b.y) * kSubpixel, step_y0 = (c.x - b.x) * kSubpixel;
+      const std::int64_t step_x1 = -(a.y - c.y) * kSubpixel, step_y1 = (a.x - c.x) * kSubpixel;
+      const std::int64_t step_x2 = -(b.y - a.y) * kSubpixel, step_y2 = (b.x - a.x) * kSubpixel;
+
+      // Depth plane through the three (unsnapped) vertices, evaluated at pixel centres.
+      const double inv_area = 1.0 / static_cast<double>(area2);
+      const double ex1 = static_cast<double>(b.x - a.x), ey1 = static_cast<double>(b.y - a.y);
+      const double ex2 = static_cast<double>(c.x - a.x), ey2 = static_cast<double>(c.y - a.y);
+      const double dz1 = static_cast<double>(s1->depth) - s0->depth, dz2 = static_cast<double>(s2->depth) - s0->depth;
+      const double dzdx = (dz1 * ey2 - dz2 * ey1) * inv_area * kSubpixel;
+      const double dzdy = (dz2 * ex1 - dz1 * ex2) * inv_area * kSubpixel;
+      const double z_origin = s0->depth + (dzdx * static_cast<double>(origin.x - a.x) +
+                                           dzdy * static_cast<double>(origin.y - a.y)) / kSubpixel;
+      const std::uint32_t id = static_cast<std::uint32_t>(f + 1);
+
+      for (int y = y0; y <= y1; ++y) {
+        std::int64_t w0 = row0, w1 = row1, w2 = row2;
+        const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(size);
+        for (int x = x0; x <= x1; ++x) {
+          if ((w0 | w1 | w2) >= 0) {
+            const float z = static_cast<float>(z_origin + dzdx * (x - x0) + dzdy * (y - y0));
+            const std::size_t p = row + static_cast<std::size_t>(x);
+            if (z < depth[p]) {
+              depth[p] = z;
+              ids[p] = id;
+            }
+          }
+          w0 += step_x0;
+          w1 += step_x1;
+          w2 += step_x2;
+        }
+        row0 += step_y0;
+        row1 += step_y1;
+        row2 += step_y2;
+      }
+    }
+  }
+
+  RenderOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Renderer> make_raster_renderer(const RenderOptions& options) {
+  return std::make_unique<RasterRenderer>(options);
+}
+
+}  // namespace visimp

@@ -1,0 +1,177 @@
+// Tally arithmetic and the slice file format (see tally.h).
+#include "visimp/visibility/tally.h"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "visimp/core/errors.h"
+#include "visimp/io/atomic_file.h"
+#include "visimp/io/mesh_io.h"
+
+namespace visimp {
+namespace {
+
+constexpr char kMagic[8] = {'V', 'I', 'S', 'I', 'M', 'P', 'T', '1'};
+
+// Explicit little-endian encoding: slices may travel between machines.
+class ByteWriter {
+ public:
+  void u32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  }
+  void u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  }
+  void f64(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, 8);
+    u64(bits);
+  }
+  std::string bytes;
+};
+
+class ByteReader {
+ public:
+  ByteReader(const std::string& path, const std::string& bytes) : path_(path), bytes_(bytes) {}
+  std::uint64_t u64() { return read(8); }
+  std::uint32_t u32() { return static_cast<std::uint32_t>(read(4)); }
+  double f64() {
+    const std::uint64_t bits = u64();
+    double v;
+    std::memcpy(&v, &bits, 8);
+    return v;
+  }
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+  void expect_magic() {
+    if (bytes_.size() < 8 || std::memcmp(bytes_.data(), kMagic, 8) != 0) {
+      throw IoError(path_, "not a visimp visibility tally (bad magic)");
+    }
+    pos_ = 8;
+  }
+
+ private:
+  std::uint64_t read(int n) {
+    if (remaining() < static_cast<std::size_t>(n)) {
+      throw IoError(path_, "truncated tally at byte " + std::to_string(pos_));
+    }
+    std::uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v |= std::uint64_t{static_cast<unsigned char>(bytes_[pos_ + i])} << (8 * i);
+    pos_ += static_cast<std::size_t>(n);
+    return v;
+  }
+  const std::string& path_;
+  const std::string& bytes_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+bool TallyKey::operator==(const TallyKey& o) const {
+  return mesh_hash == o.mesh_hash && camera_hash == o.camera_hash && camera_count == o.camera_count &&
+         faces == o.faces && resolution == o.resolution && flags == o.flags &&
+         worst_view_cosine == o.worst_view_cosine && depth_tolerance_pixels == o.depth_tolerance_pixels;
+}
+
+void VisibilityTally::merge(const VisibilityTally& other) {
+  if (key != other.key) {
+    throw UsageError("tallies come from different meshes, camera sets or options and cannot be merged");
+  }
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges = camera_ranges;
+  ranges.insert(ranges.end(), other.camera_ranges.begin(), other.camera_ranges.end());
+  std::sort(ranges.begin(), ranges.end());
+  for (std::size_t i = 1; i < ranges.size(); ++i) {
+    if (ranges[i].first < ranges[i - 1].second) {
+      throw UsageError("camera ranges " + std::to_string(ranges[i - 1].first) + ".." +
+                       std::to_string(ranges[i - 1].second) + " and " + std::to_string(ranges[i].first) + ".." +
+                       std::to_string(ranges[i].second) + " overlap: a camera would be counted twice");
+    }
+  }
+  // Keep the list short: join ranges that touch.
+  camera_ranges.clear();
+  for (const auto& r : ranges) {
+    if (!camera_ranges.empty() && camera_ranges.back().second == r.first) {
+      camera_ranges.back().second = r.second;
+    } else if (r.first < r.second) {
+      camera_ranges.push_back(r);
+    }
+  }
+  for (std::size_t t = 0; t < seen.size(); ++t) {
+    seen[t] += other.seen[t];
+    total[t] += other.total[t];
+  }
+}
+
+bool VisibilityTally::complete() const {
+  return camera_ranges.size() == 1 && camera_ranges[0].first == 0 && camera_ranges[0].second == key.camera_count;
+}
+
+std::string VisibilityTally::describe_ranges() const {
+  std::string s;
+  for (const auto& r : camera_ranges) {
+    if (!s.empty()) s += ", ";
+    s += std::to_string(r.first) + ".." + std::to_string(r.second);
+  }
+  return s.empty() ? "none" : s;
+}
+
+void VisibilityTally::write(const std::string& path) const {
+  ByteWriter w;
+  w.bytes.assign(kMagic, kMagic + 8);
+  w.u64(key.mesh_hash);
+  w.u64(key.camera_hash);
+  w.u64(key.camera_count);
+  w.u64(key.faces);
+  w.u32(key.resolution);
+  w.u32(key.flags);
+  w.f64(key.worst_view_cosine);
+  w.f64(key.depth_tolerance_pixels);
+  w.u64(camera_ranges.size());
+  for (const auto& r : camera_ranges) {
+    w.u64(r.first);
+    w.u64(r.second);
+  }
+  for (std::uint32_t v : seen) w.u32(v);
+  for (std::uint32_t v : total) w.u32(v);
+  AtomicFileWriter file(path);
+  file.stream().write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
+  file.commit();
+}
+
+VisibilityTally VisibilityTally::read(const std::string& path) {
+  const std::string bytes = read_file_bytes(path);
+  ByteReader r(path, bytes);
+  r.expect_magic();
+  VisibilityTally t;
+  t.key.mesh_hash = r.u64();
+  t.key.camera_hash = r.u64();
+  t.key.camera_count = r.u64();
+  t.key.faces = r.u64();
+  t.key.resolution = r.u32();
+  t.key.flags = r.u32();
+  t.key.worst_view_cosine = r.f64();
+  t.key.depth_tolerance_pixels = r.f64();
+  const std::uint64_t ranges = r.u64();
+  if (ranges > r.remaining() / 16) throw IoError(path, "camera range count " + std::to_string(ranges) + " exceeds the file");
+  for (std::uint64_t i = 0; i < ranges; ++i) {
+    const std::uint64_t first = r.u64(), last = r.u64();
+    if (first > last || last > t.key.camera_count) throw IoError(path, "camera range out of order or beyond the set");
+    t.camera_ranges.emplace_back(first, last);
+  }
+  if (t.key.camera_count > kMaxCameras) throw IoError(path, "more than 65536 cameras");
+  if (r.remaining() != t.key.faces * 8) {
+    throw IoError(path, "expected " + std::to_string(t.key.faces) + " faces of tallies (" +
+                            std::to_string(t.key.faces * 8) + " bytes), found " + std::to_string(r.remaining()));
+  }
+  t.seen.resize(t.key.faces);
+  t.total.resize(t.key.faces);
+  for (auto& v : t.seen) v = r.u32();
+  for (auto& v : t.total) v = r.u32();
+  for (std::size_t f = 0; f < t.seen.size(); ++f) {
+    if (t.seen[f] > t.total[f]) throw IoError(path, "face " + std::to_string(f) + " is seen more than it is faced");
+  }
+  return t;
+}
+
+}  // namespace visimp

@@ -1,0 +1,374 @@
+// The visibility measure (see visibility.h; Zhang & Turk 2002, eqs. 3.2 and 4.3).
+//
+// Per camera, on the worker that rendered the frame:
+//   1. every pixel marks the face it shows as seen (`owned`);
+//   2. depth test: a vertex counts as visible when it is not behind the depth buffer by more
+//      than the tolerance at one of the four pixel centres around it;
+//   3. one pass over the faces adds q(R·N) to `total` for every face turned toward the
+//      camera and to `seen` when the face owns a pixel or one of its vertices is visible;
+//   4. the owned marks are cleared through the same pixels.
+// Workers add integers into their own arrays, summed at the end: any thread count gives
+// the same bits.
+#include "visimp/visibility/visibility.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
+#include "visimp/core/mesh_stats.h"
+#include "visimp/core/union_find.h"
+
+namespace visimp {
+namespace {
+
+constexpr std::uint32_t kFlagFractional = 1;
+constexpr std::uint32_t kFlagDepthTest = 2;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// FNV-1a over raw bytes: identifies a mesh or camera set in tally files.
+std::uint64_t fnv1a(std::uint64_t hash, const void* data, std::size_t size) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= bytes[i];
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
+constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ull;
+
+std::uint64_t hash_mesh(const Mesh& mesh) {
+  std::uint64_t h = fnv1a(kFnvOffset, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+  return fnv1a(h, mesh.faces.data(), mesh.faces.size() * sizeof(Face));
+}
+
+std::uint64_t hash_cameras(const CameraSet& cameras) {
+  return fnv1a(kFnvOffset, cameras.directions.data(), cameras.directions.size() * sizeof(Vec3));
+}
+
+std::array<float, 3> to_float(const Vec3& v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
+
+float dot(const std::array<float, 3>& a, const std::array<float, 3>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+struct FaceTally {
+  std::uint32_t seen = 0, total = 0;  // together: one cache line serves both
+};
+
+// Per-worker accumulators; see the file comment for the four steps.
+class TallyConsumer final : public FrameConsumer {
+ public:
+  TallyConsumer(const RenderScene& scene, const std::vector<std::array<float, 3>>& face_normals,
+                const std::vector<std::array<float, 3>>& vertex_normals, const VisibilityOptions& options)
+      : scene_(scene), face_normals_(face_normals), vertex_normals_(vertex_normals), options_(options) {}
+
+  void begin(unsigned workers) override { workers_.resize(workers); }
+
+  void consume(const Frame& frame, std::size_t, unsigned worker) override {
+    Worker& w = workers_[worker];
+    const std::size_t faces = scene_.faces.size();
+    if (w.tally.empty()) {
+      w.tally.resize(faces);
+      w.owned.assign(faces, 0);
+      w.vertex_visible.assign(scene_.positions.size(), 0);
+    }
+    const std::array<float, 3> direction = to_float(frame.view.direction);
+    const std::uint32_t* ids = frame.ids.data();
+    const std::size_t pixels = frame.ids.size();
+    for (std::size_t p = 0; p < pixels; ++p) {
+      if (ids[p] != 0 && w.owned[ids[p] - 1] != 0xffffffffu) ++w.owned[ids[p] - 1];
+    }
+    if (options_.depth_test) mark_visible_vertices(frame, direction, w.vertex_visible);
+
+    const float pixel_area = 1.0f;
+    for (std::size_t t = 0; t < faces; ++t) {
+      const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
+      if (q == 0) continue;
+      FaceTally& tally = w.tally[t];
+      tally.total += q;
+      const std::uint32_t owned = w.owned[t];
+      bool depth_visible = false;
+      if (owned == 0 && options_.depth_test) {
+        const Face& f = scene_.faces[t];
+        depth_visible = (w.vertex_visible[f[0]] | w.vertex_visible[f[1]] | w.vertex_visible[f[2]]) != 0;
+      }
+      if (owned == 0 && !depth_visible) continue;
+      if (!options_.fractional) {
+        tally.seen += q;
+        continue;
+      }
+      // Fraction of the projected area that owns pixels; a face smaller than a pixel that
+      // is seen at all counts as wholly seen.
+      const Face& f = scene_.faces[t];
+      const ScreenVertex &a = frame.vertices[f[0]], &b = frame.vertices[f[1]], &c = frame.vertices[f[2]];
+      const float area = 0.5f * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+      const float covered = std::max(static_cast<float>(owned), 1.0f) * pixel_area;
+      const float fraction = std::min(1.0f, covered / std::max(area, pixel_area));
+      tally.seen += static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
+    }
+    for (std::size_t p = 0; p < pixels; ++p) {
+      if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
+    }
+  }
+
+  /// Sum of all workers' tallies.
+  void add_to(VisibilityTally& out) const {
+    for (const Worker& w : workers_) {
+      for (std::size_t t = 0; t < w.tally.size(); ++t) {
+        out.seen[t] += w.tally[t].seen;
+        out.total[t] += w.tally[t].total;
+      }
+    }
+  }
+
+ private:
+  struct Worker {
+    std::vector<FaceTally> tally;
+    std::vector<std::uint32_t> owned;         // pixels owned in the current frame
+    std::vector<std::uint8_t> vertex_visible; // depth test result in the current frame
+  };
+
+  // A vertex on the visible surface lies within (slope × distance) of the depth stored at
+  // the nearest pixel centres; the slope comes from its normal, capped at the worst angle.
+  void mark_visible_vertices(const Frame& frame, const std::array<float, 3>& direction,
+                             std::vector<std::uint8_t>& visible) const {
+    const int size = frame.resolution();
+    const float pixel_depth = 1.0f / static_cast<float>(size);  // one pixel, in depth units
+    const float min_cos = static_cast<float>(options_.worst_view_cosine);
+    const float base = static_cast<float>(options_.depth_tolerance_pixels);
+    const float* depth = frame.depth.data();
+    for (std::size_t i = 0; i < frame.vertices.size(); ++i) {
+      const ScreenVertex& v = frame.vertices[i];
+      const float c = std::max(dot(vertex_normals_[i], direction), min_cos);
+      const float tangent = std::sqrt(std::max(0.0f, 1.0f - c * c)) / c;
+      const float tolerance = (base + 0.7072f * tangent) * pixel_depth;
+      const int px = std::clamp(static_cast<int>(std::floor(v.x - 0.5f)), 0, size - 2);
+      const int py = std::clamp(static_cast<int>(std::floor(v.y - 0.5f)), 0, size - 2);
+      const std::size_t p = static_cast<std::size_t>(py) * static_cast<std::size_t>(size) + static_cast<std::size_t>(px);
+      const float limit = v.depth - tolerance;
+      // Not behind the nearest surface (by more than the tolerance) at one neighbour.
+      visible[i] = (depth[p] >= limit) | (depth[p + 1] >= limit) | (depth[p + static_cast<std::size_t>(size)] >= limit) |
+                   (depth[p + static_cast<std::size_t>(size) + 1] >= limit);
+    }
+  }
+
+  const RenderScene& scene_;
+  const std::vector<std::array<float, 3>>& face_normals_;
+  const std::vector<std::array<float, 3>>& vertex_normals_;
+  const VisibilityOptions& options_;
+  std::vector<Worker> workers_;
+};
+
+}  // namespace
+
+std::vector<OptionSpec> describe_options(VisibilityOptions& o) {
+  return {
+      option_spec("--worst-view-cosine", "C", o.worst_view_cosine,
+                  "cosine of the worst viewing angle; edges longer than pixel/C are split, (0, 1]"),
+      negated_switch_spec("--no-refine", o.refine, "do not split long edges (to study the effect)"),
+      negated_switch_spec("--no-depth-test", o.depth_test, "only pixel ownership decides F (to study the effect)"),
+      option_spec("--depth-tolerance", "PX", o.depth_tolerance_pixels,
+                  "depth-test tolerance in pixels, added to the slope allowance, [0, 16]"),
+      switch_spec("--fractional", o.fractional, "F = visible fraction of the projected area instead of 0/1"),
+      option_spec("--max-refined-faces", "N", o.max_refined_faces, "refuse to refine beyond N faces"),
+  };
+}
+
+void check_options(const VisibilityOptions& o) {
+  if (!(o.worst_view_cosine > 0 && o.worst_view_cosine <= 1)) throw UsageError("--worst-view-cosine must be in (0, 1]");
+  if (!(o.depth_tolerance_pixels >= 0 && o.depth_tolerance_pixels <= 16))
+    throw UsageError("--depth-tolerance must be in [0, 16] pixels");
+  if (o.max_refined_faces == 0) throw UsageError("--max-refined-faces must be positive");
+}
+
+bool back_faces_always_hidden(const Mesh& mesh) {
+  const MeshStats stats = analyze(mesh);
+  if (!stats.closed_manifold() || stats.misoriented_edges != 0 || stats.degenerate_faces != 0) return false;
+  // Every component must enclose positive volume (outward normals), or a ray from outside
+  // could meet a back face first.
+  UnionFind components(mesh.positions.size());
+  for (const Face& f : mesh.faces) {
+    components.unite(f[0], f[1]);
+    components.unite(f[0], f[2]);
+  }
+  std::vector<double> volume(mesh.positions.size(), 0.0);
+  const Vec3 center = stats.bbox.center();
+  for (const Face& f : mesh.faces) {
+    const Vec3 a = mesh.positions[f[0]] - center, b = mesh.positions[f[1]] - center, c = mesh.positions[f[2]] - center;
+    volume[components.find(f[0])] += dot(a, cross(b, c));
+  }
+  for (std::uint32_t v = 0; v < volume.size(); ++v) {
+    if (components.find(v) == v && volume[v] < 0) return false;
+  }
+  return true;
+}
+
+VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityOptions& options)
+    : input_(mesh), options_(options), resolution_(resolution) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(options);
+  check_render_options({resolution, 0});
+  stats_.input_faces = mesh.num_faces();
+  stats_.resolution = resolution;
+  for (const Face& f : mesh.faces) stats_.degenerate_faces += is_degenerate(mesh, f) ? 1 : 0;
+
+  const bool cull = back_faces_always_hidden(mesh);
+  const BoundingBox box = bounding_box(mesh);
+  const double radius = box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0;
+  stats_.max_edge_length = refinement_edge_length(radius, resolution, options.worst_view_cosine);
+  if (options.refine) refined_ = refine_long_edges(mesh, stats_.max_edge_length, options.max_refined_faces);
+  stats_.refinement_rounds = refined_ ? refined_->rounds : 0;
+  const Mesh& rendered = rendered_mesh();
+  stats_.refined_faces = rendered.num_faces();
+  stats_.back_faces_culled = cull;
+  scene_ = RenderScene::from_mesh(rendered, cull);
+
+  unit_normals_.resize(rendered.num_faces());
+  std::vector<Vec3> vertex_sum(rendered.num_vertices());
+  for (std::size_t t = 0; t < rendered.num_faces(); ++t) {
+    const Face& f = rendered.faces[t];
+    const Vec3 n = face_normal_unnormalized(rendered, f);
+    const bool degenerate = is_degenerate(rendered, f);
+    unit_normals_[t] = degenerate ? std::array<float, 3>{0, 0, 0} : to_float(n / norm(n));
+    if (!degenerate) {
+      for (VertexIndex v : f) vertex_sum[v] += n;  // area-weighted
+    }
+  }
+  vertex_normals_.resize(rendered.num_vertices());
+  for (std::size_t v = 0; v < vertex_sum.size(); ++v) {
+    const double length = norm(vertex_sum[v]);
+    vertex_normals_[v] = length > 0 ? to_float(vertex_sum[v] / length) : std::array<float, 3>{0, 0, 0};
+  }
+  mesh_hash_ = hash_mesh(mesh);
+  stats_.seconds_refine = seconds_since(start);
+}
+
+TallyKey VisibilityJob::key(const CameraSet& cameras) const {
+  TallyKey key;
+  key.mesh_hash = mesh_hash_;
+  key.camera_hash = hash_cameras(cameras);
+  key.camera_count = cameras.size();
+  key.faces = scene_.faces.size();
+  key.resolution = static_cast<std::uint32_t>(resolution_);
+  key.flags = (options_.fractional ? kFlagFractional : 0) | (options_.depth_test ? kFlagDepthTest : 0);
+  key.worst_view_cosine = options_.worst_view_cosine;
+  key.depth_tolerance_pixels = options_.depth_tolerance_pixels;
+  return key;
+}
+
+VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t first, std::size_t last,
+                                      Renderer& renderer, RenderObserver* observer) const {
+  if (cameras.size() == 0 || cameras.size() > VisibilityTally::kMaxCameras) {
+    throw UsageError("a camera set needs 1..65536 cameras, got " + std::to_string(cameras.size()));
+  }
+  if (first > last || last > cameras.size()) {
+    throw UsageError("camera range " + std::to_string(first) + ":" + std::to_string(last) + " is outside 0:" +
+                     std::to_string(cameras.size()));
+  }
+  if (renderer.resolution() != resolution_) {
+    throw UsageError("renderer resolution " + std::to_string(renderer.resolution()) +
+                     " differs from the job's " + std::to_string(resolution_));
+  }
+  VisibilityTally tally;
+  tally.key = key(cameras);
+  if (first < last) tally.camera_ranges.emplace_back(first, last);
+  tally.seen.assign(scene_.faces.size(), 0);
+  tally.total.assign(scene_.faces.size(), 0);
+  TallyConsumer consumer(scene_, unit_normals_, vertex_normals_, options_);
+  renderer.render(scene_, cameras, first, last, consumer, observer);
+  consumer.add_to(tally);
+  return tally;
+}
+
+Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
+  const auto start = std::chrono::steady_clock::now();
+  if (tally.key.faces != scene_.faces.size() || tally.key.mesh_hash != mesh_hash_ ||
+      tally.key.resolution != static_cast<std::uint32_t>(resolution_)) {
+    throw UsageError("the tally was made for a different mesh, resolution or refinement");
+  }
+  if (!tally.complete()) {
+    throw UsageError("the tally covers cameras " + tally.describe_ranges() + " of 0.." +
+                     std::to_string(tally.key.camera_count) + "; merge the missing slices first");
+  }
+  Visibility out;
+  out.stats = stats_;
+  out.stats.cameras = tally.key.camera_count;
+  const Mesh& rendered = rendered_mesh();
+  const std::size_t input_faces = input_.num_faces();
+
+  // Input face V = area-weighted mean over its sub-faces that some camera faced.
+  std::vector<double> weighted(input_faces, 0.0), weight(input_faces, 0.0);
+  for (std::size_t t = 0; t < rendered.num_faces(); ++t) {
+    if (tally.total[t] == 0) continue;
+    const std::size_t parent = refined_ ? refined_->input_face[t] : t;
+    const double area = norm(face_normal_unnormalized(rendered, rendered.faces[t]));
+    const double v = static_cast<double>(tally.seen[t]) / static_cast<double>(tally.total[t]);
+    // A sub-face of zero area still decides a face that has nothing else.
+    const double w = area > 0 ? area : 1e-300;
+    weighted[parent] += w * v;
+    weight[parent] += w;
+  }
+  out.face.assign(input_faces, 0.0f);
+  std::vector<bool> defined(input_faces, false);
+  std::vector<double> vertex_weighted(input_.num_vertices(), 0.0), vertex_weight(input_.num_vertices(), 0.0);
+  for (std::size_t f = 0; f < input_faces; ++f) {
+    if (weight[f] == 0 || is_degenerate(input_, input_.faces[f])) continue;
+    defined[f] = true;
+    out.face[f] = static_cast<float>(std::clamp(weighted[f] / weight[f], 0.0, 1.0));
+    const double area = norm(face_normal_unnormalized(input_, input_.faces[f]));
+    for (VertexIndex v : input_.faces[f]) {
+      vertex_weighted[v] += area * out.face[f];
+      vertex_weight[v] += area;
+    }
+  }
+  out.vertex.assign(input_.num_vertices(), 0.0f);
+  for (std::size_t v = 0; v < out.vertex.size(); ++v) {
+    if (vertex_weight[v] > 0) out.vertex[v] = static_cast<float>(std::clamp(vertex_weighted[v] / vertex_weight[v], 0.0, 1.0));
+  }
+  // Faces without a value of their own take the mean of their vertices.
+  double area_sum = 0, visible_sum = 0;
+  for (std::size_t f = 0; f < input_faces; ++f) {
+    const Face& face = input_.faces[f];
+    if (!defined[f]) {
+      if (!is_degenerate(input_, face)) ++out.stats.unfaced_faces;
+      double sum = 0;
+      int count = 0;
+      for (VertexIndex v : face) {
+        if (vertex_weight[v] > 0) {
+          sum += out.vertex[v];
+          ++count;
+        }
+      }
+      out.face[f] = count > 0 ? static_cast<float>(sum / count) : 0.0f;
+    }
+    const double area = norm(face_normal_unnormalized(input_, face));
+    area_sum += area;
+    visible_sum += area * out.face[f];
+  }
+  out.mesh = area_sum > 0 ? visible_sum / area_sum : 0.0;
+  out.stats.seconds_aggregate = seconds_since(start);
+  return out;
+}
+
+Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,
+                              const VisibilityOptions& options, RenderObserver* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  VisibilityJob job(mesh, renderer.resolution(), options);
+  const auto render_start = std::chrono::steady_clock::now();
+  const VisibilityTally tally = job.render(cameras, 0, cameras.size(), renderer, observer);
+  const double render_seconds = seconds_since(render_start);
+  Visibility out = job.finish(tally);
+  out.stats.seconds_render = render_seconds;
+  out.stats.seconds_total = seconds_since(start);
+  return out;
+}
+
+}  // namespace visimp
