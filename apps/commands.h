@@ -12,5 +12,8 @@ using Args = std::vector<std::string>;
 int run_simplify(const Args& args);
 int run_info(const Args& args);
 int run_convert(const Args& args);
+int run_visibility(const Args& args);
+int run_visibility_merge(const Args& args);
+int run_visibility_study(const Args& args);
 
 }  // namespace visimp::app

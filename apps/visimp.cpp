@@ -16,6 +16,9 @@ constexpr const char* kUsage =
     "  simplify IN OUT   quadric edge-collapse simplification (QB)\n"
     "  info IN           counts, bounding box, components, boundary and non-manifold edges\n"
     "  convert IN OUT    change mesh format (ply, obj, off, stl)\n"
+    "  visibility IN OUT.ply      per-face visibility V(t) from a sphere of cameras (Zhang & Turk)\n"
+    "  visibility-merge PART...   add tallies of camera slices computed separately\n"
+    "  visibility-study IN        visibility error vs cameras and seconds (the paper's Fig. 3)\n"
     "\n"
     "'visimp COMMAND --help' describes each command.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
@@ -38,6 +41,9 @@ int main(int argc, char** argv) {
     if (command == "simplify") return app::run_simplify(args);
     if (command == "info") return app::run_info(args);
     if (command == "convert") return app::run_convert(args);
+    if (command == "visibility") return app::run_visibility(args);
+    if (command == "visibility-merge") return app::run_visibility_merge(args);
+    if (command == "visibility-study") return app::run_visibility_study(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const UsageError& e) {
     std::cerr << "visimp " << command << ": error: " << e.what() << "\n";

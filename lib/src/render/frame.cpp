@@ -66,6 +66,17 @@ void project_vertices(const RenderScene& scene, const OrthoView& view, std::vect
   }
 }
 
+Frame render_view(Renderer& renderer, const RenderScene& scene, const Vec3& direction) {
+  struct Capture final : FrameConsumer {
+    Frame frame;
+    void begin(unsigned) override {}
+    void consume(const Frame& f, std::size_t, unsigned) override { frame = f; }
+  } capture;
+  const CameraSet one{"view", {direction / norm(direction)}};
+  renderer.render(scene, one, 0, 1, capture);
+  return std::move(capture.frame);
+}
+
 void check_render_options(const RenderOptions& options) {
   if (options.resolution < 16 || options.resolution > 8192) {
     throw UsageError("resolution " + std::to_string(options.resolution) + " is outside 16..8192");

@@ -26,6 +26,7 @@ namespace {
 
 constexpr std::uint32_t kFlagFractional = 1;
 constexpr std::uint32_t kFlagDepthTest = 2;
+constexpr std::uint32_t kFlagNoRefine = 4;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -258,7 +259,8 @@ TallyKey VisibilityJob::key(const CameraSet& cameras) const {
   key.camera_count = cameras.size();
   key.faces = scene_.faces.size();
   key.resolution = static_cast<std::uint32_t>(resolution_);
-  key.flags = (options_.fractional ? kFlagFractional : 0) | (options_.depth_test ? kFlagDepthTest : 0);
+  key.flags = (options_.fractional ? kFlagFractional : 0) | (options_.depth_test ? kFlagDepthTest : 0) |
+              (options_.refine ? 0 : kFlagNoRefine);
   key.worst_view_cosine = options_.worst_view_cosine;
   key.depth_tolerance_pixels = options_.depth_tolerance_pixels;
   return key;
@@ -356,6 +358,28 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   out.mesh = area_sum > 0 ? visible_sum / area_sum : 0.0;
   out.stats.seconds_aggregate = seconds_since(start);
   return out;
+}
+
+Rgb visibility_color(double v) {
+  v = std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0);
+  auto mix = [](Rgb a, Rgb b, double t) {
+    Rgb c;
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(a[k] + (b[k] - a[k]) * t));
+    return c;
+  };
+  const Rgb white{255, 255, 255}, red{220, 0, 0}, yellow{240, 220, 0}, green{0, 170, 0};
+  if (v < 1.0 / 3) return mix(white, red, 3 * v);
+  if (v < 2.0 / 3) return mix(red, yellow, 3 * v - 1);
+  return mix(yellow, green, 3 * v - 2);
+}
+
+RgbImage render_visibility_map(const Mesh& mesh, const std::vector<float>& face_visibility, int size) {
+  std::vector<Rgb> colors(mesh.num_faces());
+  for (std::size_t f = 0; f < colors.size(); ++f) colors[f] = visibility_color(face_visibility[f]);
+  const RenderScene scene = RenderScene::from_mesh(mesh, false);
+  const auto renderer = make_raster_renderer({size, 1});
+  const Frame frame = render_view(*renderer, scene, Vec3{0.55, -0.7, 0.45});
+  return shade_frame(frame, scene, colors);
 }
 
 Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,

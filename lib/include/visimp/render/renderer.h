@@ -52,6 +52,9 @@ class Renderer {
 /// 1/256-pixel grid (watertight: a pixel centre on a shared edge belongs to one triangle).
 std::unique_ptr<Renderer> make_raster_renderer(const RenderOptions& options);
 
+/// Renders one view and returns its frame (pictures, tests).
+Frame render_view(Renderer& renderer, const RenderScene& scene, const Vec3& direction);
+
 /// Throws UsageError for a resolution or thread count out of range.
 void check_render_options(const RenderOptions& options);
 

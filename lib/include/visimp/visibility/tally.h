@@ -25,7 +25,7 @@ struct TallyKey {
   std::uint64_t camera_count = 0;    ///< cameras in the whole set
   std::uint64_t faces = 0;           ///< refined faces
   std::uint32_t resolution = 0;
-  std::uint32_t flags = 0;           ///< bit 0: fractional F, bit 1: depth test
+  std::uint32_t flags = 0;           ///< bit 0: fractional F, bit 1: depth test, bit 2: no refinement
   double worst_view_cosine = 0;
   double depth_tolerance_pixels = 0;
 

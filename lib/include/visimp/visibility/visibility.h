@@ -22,6 +22,7 @@
 #include "visimp/cameras/camera_set.h"
 #include "visimp/core/mesh.h"
 #include "visimp/core/option_table.h"
+#include "visimp/render/image.h"
 #include "visimp/render/renderer.h"
 #include "visimp/visibility/refine.h"
 #include "visimp/visibility/tally.h"
@@ -85,6 +86,7 @@ class VisibilityJob {
   /// What a tally of this job over `cameras` must carry.
   TallyKey key(const CameraSet& cameras) const;
   const VisibilityStats& stats() const { return stats_; }
+  std::uint64_t mesh_hash() const { return mesh_hash_; }
 
  private:
   const Mesh& input_;
@@ -103,6 +105,13 @@ class VisibilityJob {
 /// One call: refine, render all cameras, finish.
 Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,
                               const VisibilityOptions& options = {}, RenderObserver* observer = nullptr);
+
+/// The paper's colour scale (Fig. 2): 0–1/3 white→red, 1/3–2/3 red→yellow, 2/3–1 yellow→green.
+Rgb visibility_color(double v);
+
+/// A size×size picture of `mesh` from a 3/4 view above the front right, each face coloured
+/// by visibility_color(face_visibility[f]) and flat-shaded.
+RgbImage render_visibility_map(const Mesh& mesh, const std::vector<float>& face_visibility, int size);
 
 /// Closed, consistently oriented, every component enclosing positive volume: then every
 /// back face is hidden behind a front face and need not be drawn.

@@ -1,0 +1,334 @@
+// visimp visibility / visibility-merge / visibility-study: the visibility measure from the
+// command line (docs/visibility.md).
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "backends.h"
+#include "cli.h"
+#include "commands.h"
+#include "visimp/core/errors.h"
+#include "visimp/io/atomic_file.h"
+#include "visimp/report/json.h"
+#include "visimp/report/svg_plot.h"
+#include "visimp/visibility/visibility.h"
+
+namespace visimp::app {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Options of every visibility command besides the measure's own.
+struct SamplingOptions {
+  std::string cameras = "258";
+  std::size_t resolution = 480;
+  std::string backend = "raster";
+  std::size_t threads = 0;
+};
+
+std::vector<OptionSpec> describe_options(SamplingOptions& o) {
+  return {
+      option_spec("--cameras", "SET", o.cameras,
+                  "6|18|66|258|1026|4098 (octahedron), k0..k5 (level), dodecahedron, or a file of 'x y z' lines"),
+      option_spec("--resolution", "R", o.resolution, "frame width and height in pixels, 16..8192"),
+      option_spec("--backend", "NAME", o.backend, "raster (built-in CPU rasterizer) or osmesa (Mesa llvmpipe)"),
+      option_spec("--threads", "N", o.threads, "worker threads, 0 = one per hardware thread"),
+  };
+}
+
+RenderOptions render_options(const SamplingOptions& o) {
+  if (o.resolution > 8192) throw UsageError("--resolution must be in 16..8192");
+  return {static_cast<int>(o.resolution), static_cast<unsigned>(std::min<std::size_t>(o.threads, 4096))};
+}
+
+// "a:b" → [a, b); empty → the whole set.
+std::pair<std::size_t, std::size_t> parse_camera_range(const std::string& text, std::size_t cameras) {
+  if (text.empty()) return {0, cameras};
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) throw UsageError("--camera-range expects FIRST:LAST, got '" + text + "'");
+  const std::size_t first = parse_count(text.substr(0, colon), "--camera-range FIRST");
+  const std::size_t last = parse_count(text.substr(colon + 1), "--camera-range LAST");
+  if (first >= last || last > cameras) {
+    throw UsageError("--camera-range " + text + " must satisfy FIRST < LAST <= " + std::to_string(cameras));
+  }
+  return {first, last};
+}
+
+void require_ply(const std::string& path, const StreamOptions& stream) {
+  if (path == "-" && (stream.output_format.empty() ? stream.format : stream.output_format) != "ply") {
+    throw UsageError("writing '-' needs --format ply: only PLY carries V as face and vertex quality");
+  }
+  if (path != "-" && stream.output_format.empty() && format_from_path(path) != Format::ply) {
+    throw UsageError(path + ": only PLY carries V as face and vertex quality; name the output .ply");
+  }
+}
+
+void write_stats(JsonWriter& json, const VisibilityStats& s) {
+  json.field("faces_in", s.input_faces)
+      .field("faces_refined", s.refined_faces)
+      .field("refinement_rounds", static_cast<std::int64_t>(s.refinement_rounds))
+      .field("max_edge_length", s.max_edge_length)
+      .field("cameras", s.cameras)
+      .field("resolution", static_cast<std::int64_t>(s.resolution))
+      .field("back_faces_culled", s.back_faces_culled)
+      .field("degenerate_faces", s.degenerate_faces)
+      .field("unfaced_faces", s.unfaced_faces);
+}
+
+Mesh with_visibility(Mesh mesh, const Visibility& v) {
+  mesh.face_quality = v.face;
+  mesh.vertex_quality = v.vertex;
+  return mesh;
+}
+
+}  // namespace
+
+int run_visibility(const Args& args) {
+  VisibilityOptions options;
+  SamplingOptions sampling;
+  StreamOptions stream;
+  std::string png, tally_path, range_text;
+  std::size_t png_size = 800;
+  ArgParser parser(
+      "visimp visibility IN [OUT.ply] [--cameras SET] [--resolution R] [--backend raster|osmesa] [options]",
+      "Computes the visibility V(t) of every face of IN (Zhang & Turk 2002) and writes it to OUT.ply as\n"
+      "face and vertex quality. With --camera-range and --tally, computes one slice of the cameras for\n"
+      "'visimp visibility-merge' instead (OUT is then optional).",
+      1, 2);
+  parser.add(describe_options(sampling));
+  parser.add(describe_options(options));
+  parser.add(option_spec("--png", "FILE", png, "also write a picture of V (the paper's colour scale) from a 3/4 view"));
+  parser.add(option_spec("--png-size", "PX", png_size, "size of that picture, 16..8192"));
+  parser.add(option_spec("--camera-range", "A:B", range_text, "only cameras A..B-1 of the set"));
+  parser.add(option_spec("--tally", "FILE", tally_path, "write the slice's tallies to FILE"));
+  parser.add(describe_options(stream, true));
+  if (!parser.parse(args)) return 0;
+  check_options(options);
+  const std::string& in = parser.positionals()[0];
+  const std::string out = parser.positionals().size() > 1 ? parser.positionals()[1] : "";
+  if (out.empty() && tally_path.empty()) throw UsageError("give OUT.ply, or --tally FILE for a slice");
+  if (!out.empty()) require_ply(out, stream);
+  if (png_size < 16 || png_size > 8192) throw UsageError("--png-size must be in 16..8192");
+  const CameraSet cameras = camera_set_from_spec(sampling.cameras);
+  const auto [first, last] = parse_camera_range(range_text, cameras.size());
+  const auto renderer = make_renderer(sampling.backend, render_options(sampling));
+
+  const auto start = std::chrono::steady_clock::now();
+  const Mesh mesh = read_input(in, stream);
+  const double read_seconds = seconds_since(start);
+  const VisibilityJob job(mesh, renderer->resolution(), options);
+  auto t = std::chrono::steady_clock::now();
+  VisibilityTally tally;
+  {
+    ProgressBar progress("visibility");
+    tally = job.render(cameras, first, last, *renderer, &progress);
+  }
+  const double render_seconds = seconds_since(t);
+  double write_seconds = 0, png_seconds = 0;
+  if (!tally_path.empty()) {
+    t = std::chrono::steady_clock::now();
+    tally.write(tally_path);
+    write_seconds += seconds_since(t);
+  }
+  std::optional<Visibility> visibility;
+  if (!out.empty()) {
+    visibility = job.finish(tally);
+    visibility->stats.seconds_render = render_seconds;
+    t = std::chrono::steady_clock::now();
+    write_output(with_visibility(mesh, *visibility), out, in, stream);
+    write_seconds += seconds_since(t);
+    if (!png.empty()) {
+      t = std::chrono::steady_clock::now();
+      write_png(png, render_visibility_map(mesh, visibility->face, static_cast<int>(png_size)));
+      png_seconds = seconds_since(t);
+    }
+  }
+  const VisibilityStats& s = visibility ? visibility->stats : job.stats();
+  std::ostream& report = out == "-" ? std::cerr : std::cout;
+  if (stream.json) {
+    JsonWriter json(report);
+    json.begin_object().field("command", "visibility").field("input", in).field("output", out);
+    if (!tally_path.empty()) json.field("tally", tally_path);
+    json.field("backend", renderer->name()).field("camera_set", cameras.name);
+    json.field("camera_first", first).field("camera_last", last).field("fractional", options.fractional);
+    write_stats(json, s);
+    if (visibility) json.field("mesh_visibility", visibility->mesh);
+    json.key("seconds").begin_object()
+        .field("read", read_seconds)
+        .field("refine", s.seconds_refine)
+        .field("render", render_seconds)
+        .field("aggregate", s.seconds_aggregate)
+        .field("png", png_seconds)
+        .field("write", write_seconds)
+        .field("total", seconds_since(start))
+        .end_object();
+    json.end_object();
+  } else {
+    report << in << ": ";
+    if (visibility) report << "V(M) = " << visibility->mesh << ", ";
+    report << s.input_faces << " faces (" << s.refined_faces << " after refinement), cameras " << first << ".."
+           << last << " of " << cameras.size() << ", refine " << s.seconds_refine << " s, render " << render_seconds
+           << " s\n";
+  }
+  return 0;
+}
+
+int run_visibility_merge(const Args& args) {
+  std::string out, mesh_path;
+  StreamOptions stream;
+  ArgParser parser("visimp visibility-merge PART.bin... -o OUT [--mesh IN]",
+                   "Adds tallies of disjoint camera slices. OUT is a merged tally, or, with --mesh IN (the\n"
+                   "mesh the slices were computed for), a PLY with V as quality - bit for bit what one\n"
+                   "'visimp visibility' run over all cameras writes.",
+                   1, 100000);
+  parser.add(option_spec("-o", "OUT", out, "the merged tally, or the mesh with V when --mesh is given"));
+  parser.add(option_spec("--mesh", "IN", mesh_path, "the input mesh of the slices"));
+  parser.add(describe_options(stream, true));
+  if (!parser.parse(args)) return 0;
+  if (out.empty()) throw UsageError("-o OUT is required");
+  const auto start = std::chrono::steady_clock::now();
+  VisibilityTally merged = VisibilityTally::read(parser.positionals()[0]);
+  for (std::size_t i = 1; i < parser.positionals().size(); ++i) {
+    try {
+      merged.merge(VisibilityTally::read(parser.positionals()[i]));
+    } catch (const UsageError& e) {
+      throw UsageError(parser.positionals()[i] + ": " + e.what());
+    }
+  }
+  std::optional<Visibility> visibility;
+  if (mesh_path.empty()) {
+    merged.write(out);
+  } else {
+    require_ply(out, stream);
+    const Mesh mesh = read_input(mesh_path, stream);
+    VisibilityOptions options;
+    options.fractional = (merged.key.flags & 1) != 0;
+    options.depth_test = (merged.key.flags & 2) != 0;
+    options.refine = (merged.key.flags & 4) == 0;
+    options.worst_view_cosine = merged.key.worst_view_cosine;
+    options.depth_tolerance_pixels = merged.key.depth_tolerance_pixels;
+    const VisibilityJob job(mesh, static_cast<int>(merged.key.resolution), options);
+    if (job.mesh_hash() != merged.key.mesh_hash) {
+      throw UsageError(mesh_path + ": not the mesh these tallies were computed for");
+    }
+    visibility = job.finish(merged);
+    write_output(with_visibility(mesh, *visibility), out, mesh_path, stream);
+  }
+  std::ostream& report = out == "-" ? std::cerr : std::cout;
+  if (stream.json) {
+    JsonWriter json(report);
+    json.begin_object().field("command", "visibility-merge").field("output", out);
+    json.field("parts", parser.positionals().size()).field("cameras", merged.key.camera_count);
+    json.field("camera_ranges", merged.describe_ranges()).field("complete", merged.complete());
+    if (visibility) json.field("mesh_visibility", visibility->mesh);
+    json.field("seconds", seconds_since(start));
+    json.end_object();
+  } else {
+    report << "merged " << parser.positionals().size() << " tallies: cameras " << merged.describe_ranges() << " of "
+           << merged.key.camera_count;
+    if (visibility) report << ", V(M) = " << visibility->mesh;
+    report << "\n";
+  }
+  return 0;
+}
+
+int run_visibility_study(const Args& args) {
+  VisibilityOptions options;
+  SamplingOptions sampling;
+  StreamOptions stream;
+  std::string csv_path, svg_path;
+  std::size_t max_level = 5;
+  ArgParser parser("visimp visibility-study IN [--csv FILE] [--svg FILE] [--json]",
+                   "Computes V with 6, 18, 66, 258, 1026 cameras and compares each with 4098 cameras\n"
+                   "(octahedron levels 0..4 against level 5): the area-weighted mean |V - V_ref| and the\n"
+                   "seconds each took - Fig. 3 of Zhang & Turk 2002. CSV on stdout unless --json.",
+                   1);
+  parser.add(describe_options(sampling));
+  parser.add(describe_options(options));
+  parser.add(option_spec("--max-level", "K", max_level, "reference octahedron level, 1..5"));
+  parser.add(option_spec("--csv", "FILE", csv_path, "also write the table as CSV"));
+  parser.add(option_spec("--svg", "FILE", svg_path, "plot error against seconds (log axes)"));
+  parser.add(describe_options(stream, false));
+  if (!parser.parse(args)) return 0;
+  check_options(options);
+  if (max_level < 1 || max_level > 5) throw UsageError("--max-level must be in 1..5");
+  const std::string& in = parser.positionals()[0];
+  const Mesh mesh = read_input(in, stream);
+  const auto renderer = make_renderer(sampling.backend, render_options(sampling));
+
+  struct Row {
+    int level;
+    std::size_t cameras;
+    double seconds, mesh_visibility, error = 0;
+  };
+  std::vector<Row> rows;
+  std::vector<std::vector<float>> values;
+  {
+    ProgressBar progress("visibility-study");
+    for (int level = 0; level <= static_cast<int>(max_level); ++level) {
+      const Visibility v = compute_visibility(mesh, octahedron_cameras(level), *renderer, options);
+      rows.push_back({level, octahedron_camera_count(level), v.stats.seconds_total, v.mesh, 0});
+      values.push_back(v.face);
+      progress.on_progress(static_cast<double>(level + 1) / static_cast<double>(max_level + 1));
+    }
+  }
+  const std::vector<float>& reference = values.back();
+  double area_sum = 0;
+  std::vector<double> areas(mesh.num_faces());
+  for (std::size_t f = 0; f < areas.size(); ++f) area_sum += areas[f] = norm(face_normal_unnormalized(mesh, mesh.faces[f]));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    double sum = 0;
+    for (std::size_t f = 0; f < areas.size(); ++f) sum += areas[f] * std::abs(values[i][f] - reference[f]);
+    rows[i].error = area_sum > 0 ? sum / area_sum : 0;
+  }
+
+  std::ostringstream csv;
+  csv << "level,cameras,seconds,mesh_visibility,mean_abs_error_vs_" << rows.back().cameras << "\n";
+  for (const Row& r : rows) csv << r.level << "," << r.cameras << "," << r.seconds << "," << r.mesh_visibility << "," << r.error << "\n";
+  if (!csv_path.empty()) {
+    AtomicFileWriter file(csv_path);
+    file.stream() << csv.str();
+    file.commit();
+  }
+  if (!svg_path.empty()) {
+    SvgPlot plot;
+    plot.title = "Visibility error vs time: " + in;
+    plot.x_label = "seconds";
+    plot.y_label = "mean |V - V(" + std::to_string(rows.back().cameras) + " cameras)|";
+    plot.log_x = plot.log_y = true;
+    PlotSeries series{renderer->name() + " " + std::to_string(sampling.resolution) + "px", {}, {}};
+    for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
+      series.points.emplace_back(rows[i].seconds, rows[i].error);
+      series.point_labels.push_back(std::to_string(rows[i].cameras));
+    }
+    plot.series.push_back(series);
+    AtomicFileWriter file(svg_path);
+    plot.write(file.stream());
+    file.commit();
+  }
+  if (stream.json) {
+    JsonWriter json(std::cout);
+    json.begin_object().field("command", "visibility-study").field("input", in).field("backend", renderer->name());
+    json.field("resolution", sampling.resolution).field("reference_cameras", rows.back().cameras);
+    json.key("rows").begin_array();
+    for (const Row& r : rows) {
+      json.begin_object()
+          .field("level", static_cast<std::int64_t>(r.level))
+          .field("cameras", r.cameras)
+          .field("seconds", r.seconds)
+          .field("mesh_visibility", r.mesh_visibility)
+          .field("mean_abs_error", r.error)
+          .end_object();
+    }
+    json.end_array().end_object();
+  } else {
+    std::cout << csv.str();
+  }
+  return 0;
+}
+
+}  // namespace visimp::app
