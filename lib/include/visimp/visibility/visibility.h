@@ -94,6 +94,7 @@ class VisibilityJob {
   int resolution_;
   std::optional<RefinedMesh> refined_;
   RenderScene scene_;
+  std::vector<std::uint32_t> scene_order_;          ///< scene face → face of rendered_mesh()
   std::vector<std::array<float, 3>> unit_normals_;  ///< per refined face, zero if degenerate
   std::vector<std::array<float, 3>> vertex_normals_; ///< per refined vertex, unit or zero
   std::uint64_t mesh_hash_ = 0;
