@@ -76,7 +76,9 @@ void write_stats(JsonWriter& json, const VisibilityStats& s) {
       .field("resolution", static_cast<std::int64_t>(s.resolution))
       .field("back_faces_culled", s.back_faces_culled)
       .field("degenerate_faces", s.degenerate_faces)
-      .field("unfaced_faces", s.unfaced_faces);
+      .field("unfaced_faces", s.unfaced_faces)
+      .field("hidden_faces", s.hidden_faces)
+      .field("hidden_area_fraction", s.hidden_area_fraction);
 }
 
 Mesh with_visibility(Mesh mesh, const Visibility& v) {

@@ -98,8 +98,8 @@ struct FaceTally {
 class TallyConsumer final : public FrameConsumer {
  public:
   TallyConsumer(const RenderScene& scene, const std::vector<std::array<float, 3>>& face_normals,
-                const std::vector<std::array<float, 3>>& vertex_normals, const VisibilityOptions& options)
-      : scene_(scene), face_normals_(face_normals), vertex_normals_(vertex_normals), options_(options) {}
+                const VisibilityOptions& options)
+      : scene_(scene), face_normals_(face_normals), options_(options) {}
 
   void begin(unsigned workers) override { workers_.resize(workers); }
 
@@ -109,7 +109,7 @@ class TallyConsumer final : public FrameConsumer {
     if (w.tally.empty()) {
       w.tally.resize(faces);
       w.owned.assign(faces, 0);
-      w.vertex_visible.assign(scene_.positions.size(), 0);
+      w.depth_gap.assign(scene_.positions.size(), 0.0f);
     }
     const std::array<float, 3> direction = to_float(frame.view.direction);
     const std::uint32_t* ids = frame.ids.data();
@@ -117,7 +117,8 @@ class TallyConsumer final : public FrameConsumer {
     for (std::size_t p = 0; p < pixels; ++p) {
       if (ids[p] != 0 && w.owned[ids[p] - 1] != 0xffffu) ++w.owned[ids[p] - 1];
     }
-    if (options_.depth_test) mark_visible_vertices(frame, direction, w.vertex_visible);
+    if (options_.depth_test) measure_depth_gaps(frame, w.depth_gap);
+    const std::array<float, 256> tolerance = tolerance_by_weight(frame.resolution());
 
     const float pixel_area = 1.0f;
     for (std::size_t t = 0; t < faces; ++t) {
@@ -129,7 +130,8 @@ class TallyConsumer final : public FrameConsumer {
       bool depth_visible = false;
       if (owned == 0 && options_.depth_test) {
         const Face& f = scene_.faces[t];
-        depth_visible = (w.vertex_visible[f[0]] | w.vertex_visible[f[1]] | w.vertex_visible[f[2]]) != 0;
+        const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
+        depth_visible = gap <= tolerance[q >> 8];
       }
       if (owned == 0 && !depth_visible) continue;
       if (!options_.fractional) {
@@ -163,44 +165,45 @@ class TallyConsumer final : public FrameConsumer {
  private:
   struct Worker {
     std::vector<FaceTally> tally;
-    std::vector<std::uint16_t> owned;         // pixels owned in the current frame (saturating)
-    std::vector<std::uint8_t> vertex_visible; // depth test result in the current frame
+    std::vector<std::uint16_t> owned;  // pixels owned in the current frame (saturating)
+    std::vector<float> depth_gap;      // per vertex: how far behind the depth buffer it is
   };
 
-  // A vertex on the visible surface lies within (slope × distance) of the depth stored at
-  // the nearest pixel centres; the slope comes from its normal, capped at the worst angle.
-  void mark_visible_vertices(const Frame& frame, const std::array<float, 3>& direction,
-                             std::vector<std::uint8_t>& visible) const {
+  // How far each vertex lies behind the farthest of the depth buffer's values at the four
+  // pixel centres around it (negative: in front). A vertex of the visible surface is at
+  // most slope × 0.71 px behind the nearest of those centres.
+  static void measure_depth_gaps(const Frame& frame, std::vector<float>& gap) {
     const int size = frame.resolution();
-    // Tolerance by cosine bin (the bin's lower edge, so never too small): a table instead
-    // of a square root and a division per vertex and camera.
-    constexpr int kBins = 256;
-    std::array<float, kBins + 1> tolerance_by_cos;
-    const float pixel_depth = 1.0f / static_cast<float>(size);  // one pixel, in depth units
-    for (int b = 0; b <= kBins; ++b) {
-      const double c = std::max(static_cast<double>(b) / kBins, options_.worst_view_cosine);
-      const double tangent = std::sqrt(1.0 - c * c) / c;
-      tolerance_by_cos[b] = static_cast<float>((options_.depth_tolerance_pixels + 0.7072 * tangent) * pixel_depth);
-    }
+    const auto row = static_cast<std::size_t>(size);
     const float* depth = frame.depth.data();
     for (std::size_t i = 0; i < frame.vertices.size(); ++i) {
       const ScreenVertex& v = frame.vertices[i];
-      const float c = std::clamp(dot(vertex_normals_[i], direction), 0.0f, 1.0f);
-      const float tolerance = tolerance_by_cos[static_cast<int>(c * kBins)];
       // Screen coordinates are positive, so truncation is the floor (or 0 where clamped anyway).
       const int px = std::min(static_cast<int>(v.x - 0.5f), size - 2);
       const int py = std::min(static_cast<int>(v.y - 0.5f), size - 2);
-      const std::size_t p = static_cast<std::size_t>(py) * static_cast<std::size_t>(size) + static_cast<std::size_t>(px);
-      const float limit = v.depth - tolerance;
-      // Not behind the nearest surface (by more than the tolerance) at one neighbour.
-      visible[i] = (depth[p] >= limit) | (depth[p + 1] >= limit) | (depth[p + static_cast<std::size_t>(size)] >= limit) |
-                   (depth[p + static_cast<std::size_t>(size) + 1] >= limit);
+      const std::size_t p = static_cast<std::size_t>(py) * row + static_cast<std::size_t>(px);
+      gap[i] = v.depth - std::max({depth[p], depth[p + 1], depth[p + row], depth[p + row + 1]});
     }
+  }
+
+  // Depth tolerance of a face by its quantised weight q (= cos θ · 65535, binned by q >> 8):
+  // the base tolerance plus the depth change of the face's own plane over 0.71 px, with
+  // the slope capped at the worst viewing angle. The bin's lower edge is used, so the
+  // tolerance is never too small.
+  std::array<float, 256> tolerance_by_weight(int resolution) const {
+    std::array<float, 256> table;
+    const double pixel_depth = 1.0 / resolution;  // one pixel, in depth units
+    for (int b = 0; b < 256; ++b) {
+      const double c = std::max(b / 256.0, options_.worst_view_cosine);
+      const double tangent = std::sqrt(1.0 - c * c) / c;
+      table[static_cast<std::size_t>(b)] =
+          static_cast<float>((options_.depth_tolerance_pixels + 0.7072 * tangent) * pixel_depth);
+    }
+    return table;
   }
 
   const RenderScene& scene_;
   const std::vector<std::array<float, 3>>& face_normals_;
-  const std::vector<std::array<float, 3>>& vertex_normals_;
   const VisibilityOptions& options_;
   std::vector<Worker> workers_;
 };
@@ -276,7 +279,6 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   unit_normals_.resize(rendered.num_faces());
   constexpr VertexIndex kUnused = 0xffffffffu;
   std::vector<VertexIndex> scene_vertex(rendered.num_vertices(), kUnused);
-  std::vector<Vec3> vertex_sum;
   for (std::size_t t = 0; t < scene_order_.size(); ++t) {
     const Face& f = rendered.faces[scene_order_[t]];
     const Vec3 n = face_normal_unnormalized(rendered, f);
@@ -287,16 +289,9 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
       if (v == kUnused) {
         v = static_cast<VertexIndex>(scene_.positions.size());
         scene_.positions.push_back(to_float(rendered.positions[f[k]] - center));
-        vertex_sum.emplace_back();
       }
       scene_.faces[t][k] = v;
-      if (!degenerate) vertex_sum[v] += n;  // area-weighted
     }
-  }
-  vertex_normals_.resize(vertex_sum.size());
-  for (std::size_t v = 0; v < vertex_sum.size(); ++v) {
-    const double length = norm(vertex_sum[v]);
-    vertex_normals_[v] = length > 0 ? to_float(vertex_sum[v] / length) : std::array<float, 3>{0, 0, 0};
   }
   mesh_hash_ = hash_mesh(mesh);
   stats_.seconds_refine = seconds_since(start);
@@ -334,7 +329,7 @@ VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t firs
   if (first < last) tally.camera_ranges.emplace_back(first, last);
   tally.seen.assign(scene_.faces.size(), 0);
   tally.total.assign(scene_.faces.size(), 0);
-  TallyConsumer consumer(scene_, unit_normals_, vertex_normals_, options_);
+  TallyConsumer consumer(scene_, unit_normals_, options_);
   renderer.render(scene_, cameras, first, last, consumer, observer);
   consumer.add_to(tally);
   return tally;
@@ -387,7 +382,7 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
     if (vertex_weight[v] > 0) out.vertex[v] = static_cast<float>(std::clamp(vertex_weighted[v] / vertex_weight[v], 0.0, 1.0));
   }
   // Faces without a value of their own take the mean of their vertices.
-  double area_sum = 0, visible_sum = 0;
+  double area_sum = 0, visible_sum = 0, hidden_area = 0;
   for (std::size_t f = 0; f < input_faces; ++f) {
     const Face& face = input_.faces[f];
     if (!defined[f]) {
@@ -405,7 +400,12 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
     const double area = norm(face_normal_unnormalized(input_, face));
     area_sum += area;
     visible_sum += area * out.face[f];
+    if (out.face[f] == 0.0f) {
+      ++out.stats.hidden_faces;
+      hidden_area += area;
+    }
   }
+  out.stats.hidden_area_fraction = area_sum > 0 ? hidden_area / area_sum : 0.0;
   out.mesh = area_sum > 0 ? visible_sum / area_sum : 0.0;
   out.stats.seconds_aggregate = seconds_since(start);
   return out;

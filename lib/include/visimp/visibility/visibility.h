@@ -59,6 +59,8 @@ struct VisibilityStats {
   bool back_faces_culled = false;      ///< the mesh is closed and outward-oriented
   std::size_t degenerate_faces = 0;    ///< zero area: V is the mean of their vertices' V
   std::size_t unfaced_faces = 0;       ///< no camera in front of them: V likewise from vertices
+  std::size_t hidden_faces = 0;        ///< V = 0: no camera saw any part of them
+  double hidden_area_fraction = 0;     ///< their share of the surface area
   double seconds_refine = 0, seconds_render = 0, seconds_aggregate = 0, seconds_total = 0;
 };
 
@@ -96,7 +98,6 @@ class VisibilityJob {
   RenderScene scene_;
   std::vector<std::uint32_t> scene_order_;          ///< scene face → face of rendered_mesh()
   std::vector<std::array<float, 3>> unit_normals_;  ///< per refined face, zero if degenerate
-  std::vector<std::array<float, 3>> vertex_normals_; ///< per refined vertex, unit or zero
   std::uint64_t mesh_hash_ = 0;
   VisibilityStats stats_;
 
