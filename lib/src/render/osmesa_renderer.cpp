@@ -1,0 +1,217 @@
+// OSMesa backend (see osmesa_renderer.h). Image conventions are those of frame.h: the
+// vertex shader computes the same projection as project_vertices(), GL's window
+// transform maps NDC x,y to pixels with centres at i + 0.5, and GL_LESS keeps the first
+// of equal depths like the raster backend.
+#define GL_GLEXT_PROTOTYPES 1
+#include "visimp/render/osmesa_renderer.h"
+
+#include <GL/osmesa.h>
+#include <GL/glcorearb.h>
+#include <malloc.h>
+
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "visimp/core/errors.h"
+
+namespace visimp {
+namespace {
+
+constexpr const char* kVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in uint face_id;
+uniform vec3 right;
+uniform vec3 up;
+uniform vec3 direction;
+uniform float inv_radius;
+flat out uint id;
+void main() {
+  // x, y as in frame.h; z = 2 depth - 1 with depth = (1 - p.direction / radius) / 2.
+  gl_Position = vec4(dot(position, right) * inv_radius, dot(position, up) * inv_radius,
+                     -dot(position, direction) * inv_radius, 1.0);
+  id = face_id;
+}
+)";
+
+constexpr const char* kFragmentShader = R"(#version 450 core
+flat in uint id;
+layout(location = 0) out uint face;
+void main() { face = id; }
+)";
+
+GLuint compile(GLenum type, const char* source) {
+  const GLuint shader = glCreateShader(type);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("osmesa: shader does not compile: ") + log);
+  }
+  return shader;
+}
+
+// One GL context with its framebuffer and the scene's geometry, used by one worker thread.
+class GlWorker {
+ public:
+  GlWorker(const RenderScene& scene, int resolution) : resolution_(resolution), dummy_(4, 0) {
+    const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                              OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+    context_ = OSMesaCreateContextAttribs(attributes, nullptr);
+    if (context_ == nullptr) throw std::runtime_error("osmesa: cannot create a GL 4.5 core context");
+    make_current();
+
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, compile(GL_VERTEX_SHADER, kVertexShader));
+    glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragmentShader));
+    glLinkProgram(program);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) throw std::runtime_error("osmesa: shader program does not link");
+    glUseProgram(program);
+    right_ = glGetUniformLocation(program, "right");
+    up_ = glGetUniformLocation(program, "up");
+    direction_ = glGetUniformLocation(program, "direction");
+    glUniform1f(glGetUniformLocation(program, "inv_radius"), static_cast<float>(1.0 / scene.radius));
+
+    GLuint buffers[2];
+    glGenRenderbuffers(2, buffers);
+    GLuint framebuffer;
+    glGenFramebuffers(1, &framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glBindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, resolution, resolution);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
+    glBindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, resolution, resolution);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      throw std::runtime_error("osmesa: R32UI + DEPTH32F framebuffer is not complete");
+    }
+
+    // Unshared vertices: three per face, each carrying its face's ID (flat attribute).
+    std::vector<float> positions;
+    std::vector<GLuint> ids;
+    positions.reserve(scene.faces.size() * 9);
+    ids.reserve(scene.faces.size() * 3);
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      for (VertexIndex v : scene.faces[f]) {
+        positions.insert(positions.end(), scene.positions[v].begin(), scene.positions[v].end());
+        ids.push_back(static_cast<GLuint>(f + 1));
+      }
+    }
+    vertex_count_ = static_cast<GLsizei>(ids.size());
+    GLuint vao, vbo[2];
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glGenBuffers(2, vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo[0]);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(positions.size() * sizeof(float)), positions.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo[1]);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(GLuint)), ids.data(), GL_STATIC_DRAW);
+    glVertexAttribIPointer(1, 1, GL_UNSIGNED_INT, 0, nullptr);
+    glEnableVertexAttribArray(1);
+
+    glViewport(0, 0, resolution, resolution);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    if (scene.cull_back_faces) {
+      glEnable(GL_CULL_FACE);
+      glFrontFace(GL_CCW);
+      glCullFace(GL_BACK);
+    }
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (glGetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while setting up");
+  }
+
+  ~GlWorker() {
+    if (context_ != nullptr) OSMesaDestroyContext(context_);
+  }
+  GlWorker(const GlWorker&) = delete;
+  GlWorker& operator=(const GlWorker&) = delete;
+
+  void draw(Frame& frame) {
+    make_current();
+    const OrthoView& v = frame.view;
+    glUniform3f(right_, static_cast<float>(v.right.x), static_cast<float>(v.right.y), static_cast<float>(v.right.z));
+    glUniform3f(up_, static_cast<float>(v.up.x), static_cast<float>(v.up.y), static_cast<float>(v.up.z));
+    glUniform3f(direction_, static_cast<float>(v.direction.x), static_cast<float>(v.direction.y),
+                static_cast<float>(v.direction.z));
+    const GLuint zero[4] = {0, 0, 0, 0};
+    const GLfloat far = 1.0f;
+    glClearBufferuiv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_DEPTH, 0, &far);
+    glDrawArrays(GL_TRIANGLES, 0, vertex_count_);
+    const std::size_t pixels = static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_);
+    frame.ids.resize(pixels);
+    frame.depth.resize(pixels);
+    glReadPixels(0, 0, resolution_, resolution_, GL_RED_INTEGER, GL_UNSIGNED_INT, frame.ids.data());
+    glReadPixels(0, 0, resolution_, resolution_, GL_DEPTH_COMPONENT, GL_FLOAT, frame.depth.data());
+    if (glGetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while rendering");
+  }
+
+ private:
+  void make_current() {
+    // The context renders into the FBO; OSMesa still wants a buffer to bind to.
+    if (!OSMesaMakeCurrent(context_, dummy_.data(), GL_UNSIGNED_BYTE, 1, 1)) {
+      throw std::runtime_error("osmesa: cannot make the context current");
+    }
+  }
+
+  int resolution_;
+  std::vector<unsigned char> dummy_;
+  OSMesaContext context_ = nullptr;
+  GLint right_ = -1, up_ = -1, direction_ = -1;
+  GLsizei vertex_count_ = 0;
+};
+
+class OsmesaRenderer final : public Renderer {
+ public:
+  explicit OsmesaRenderer(const RenderOptions& options) : options_(options) {
+    check_render_options(options);
+    // llvmpipe allocates and frees large scratch buffers every frame; with glibc's default
+    // thresholds they go back to the kernel and are faulted in again each time.
+    static std::once_flag tuned;
+    std::call_once(tuned, [] {
+      mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+      mallopt(M_MMAP_THRESHOLD, 512 * 1024 * 1024);
+    });
+  }
+
+  std::string name() const override { return "osmesa"; }
+  int resolution() const override { return options_.resolution; }
+
+  void render(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
+              FrameConsumer& consumer, RenderObserver* observer) override {
+    last = std::min(last, cameras.size());
+    const unsigned workers = worker_count(options_.threads, last > first ? last - first : 1);
+    consumer.begin(workers);
+    std::vector<Frame> frames(workers);
+    std::vector<std::unique_ptr<GlWorker>> gl(workers);
+    for_each_camera(first, last, workers, observer, [&](unsigned worker, std::size_t camera) {
+      if (!gl[worker]) gl[worker] = std::make_unique<GlWorker>(scene, options_.resolution);
+      Frame& frame = frames[worker];
+      frame.view = OrthoView::looking_from(cameras.directions[camera], scene.radius, options_.resolution);
+      gl[worker]->draw(frame);
+      project_vertices(scene, frame.view, frame.vertices);
+      consumer.consume(frame, camera, worker);
+    });
+  }
+
+ private:
+  RenderOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Renderer> make_osmesa_renderer(const RenderOptions& options) {
+  return std::make_unique<OsmesaRenderer>(options);
+}
+
+}  // namespace visimp
