@@ -29,7 +29,9 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
       std::cout << help();
       return false;
     }
-    if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
+    const bool long_flag = a.size() > 2 && a.compare(0, 2, "--") == 0;
+    const bool short_flag = a.size() == 2 && a[0] == '-' && a[1] != '-';  // "-o"; "-" alone is stdin/stdout
+    if (long_flag || short_flag) {
       const std::size_t eq = a.find('=');
       const std::string flag = a.substr(0, eq);
       const OptionSpec* spec = nullptr;

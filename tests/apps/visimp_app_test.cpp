@@ -43,7 +43,8 @@ class App : public ::testing::Test {
 };
 
 TEST_F(App, HelpEverywhereExitsZero) {
-  for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help"}) {
+  for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help", "visibility --help",
+                          "visibility-merge --help", "visibility-study --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -119,6 +120,71 @@ TEST_F(App, ConvertRoundTripsEveryFormat) {
     ASSERT_EQ(run("convert " + bunny + " " + out, dir).code, 0) << ext;
     EXPECT_EQ(read_mesh(out).num_faces(), 3674u) << ext;
   }
+}
+
+std::string slurp_binary(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST_F(App, VisibilityWritesQualityJsonAndAPicture) {
+  const AppRun r = run("visibility " + bunny + " " + dir + "/v.ply --cameras 66 --resolution 200 --png " + dir +
+                           "/v.png --json",
+                       dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"mesh_visibility\": 0.9"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"cameras\": 66"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"render\":"), std::string::npos) << r.out;
+  const Mesh out = read_mesh(dir + "/v.ply");
+  ASSERT_EQ(out.face_quality.size(), 3674u);
+  ASSERT_EQ(out.vertex_quality.size(), out.num_vertices());
+  EXPECT_EQ(slurp_binary(dir + "/v.png").substr(1, 3), "PNG");
+}
+
+TEST_F(App, VisibilitySlicesMergeToTheSameFileBitForBit) {
+  const std::string common = " --cameras 66 --resolution 160";
+  ASSERT_EQ(run("visibility " + bunny + " " + dir + "/whole.ply" + common, dir).code, 0);
+  ASSERT_EQ(run("visibility " + bunny + common + " --camera-range 0:30 --tally " + dir + "/a.bin", dir).code, 0);
+  ASSERT_EQ(run("visibility " + bunny + common + " --camera-range 30:66 --tally " + dir + "/b.bin", dir).code, 0);
+  // Missing cameras are an error, not a quietly different answer.
+  AppRun partial = run("visibility-merge " + dir + "/a.bin -o " + dir + "/partial.ply --mesh " + bunny, dir);
+  EXPECT_EQ(partial.code, 2);
+  EXPECT_NE(partial.err.find("30..66"), std::string::npos) << partial.err;
+  EXPECT_EQ(run("visibility-merge " + dir + "/a.bin " + dir + "/a.bin -o " + dir + "/x.bin", dir).code, 2);
+  const AppRun merged =
+      run("visibility-merge " + dir + "/b.bin " + dir + "/a.bin -o " + dir + "/merged.ply --mesh " + bunny, dir);
+  ASSERT_EQ(merged.code, 0) << merged.err;
+  EXPECT_EQ(slurp_binary(dir + "/merged.ply"), slurp_binary(dir + "/whole.ply"));
+}
+
+TEST_F(App, VisibilityRejectsBadCamerasAndOutputs) {
+  {
+    std::ofstream(dir + "/cams.txt") << "0 0 1\n1 nan 0\n";
+  }
+  AppRun r = run("visibility " + bunny + " " + dir + "/v.ply --cameras " + dir + "/cams.txt", dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("cams.txt: line 2"), std::string::npos) << r.err;
+  r = run("visibility " + bunny + " " + dir + "/v.obj", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("PLY"), std::string::npos) << r.err;
+  r = run("visibility " + bunny + " " + dir + "/v.ply --backend vulkan", dir);
+  EXPECT_EQ(r.code, 2);
+  r = run("visibility " + bunny + " " + dir + "/v.ply --camera-range 5:3", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/v.ply"));
+}
+
+TEST_F(App, VisibilityStudyReportsErrorAgainstTime) {
+  const AppRun r = run("visibility-study " + bunny + " --max-level 2 --resolution 128 --svg " + dir + "/s.svg --csv " +
+                           dir + "/s.csv",
+                       dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("level,cameras,seconds"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n2,66,"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp_binary(dir + "/s.csv"), r.out);
+  EXPECT_NE(slurp_binary(dir + "/s.svg").find("<svg"), std::string::npos);
 }
 
 }  // namespace

@@ -116,6 +116,22 @@ std::string VisibilityTally::describe_ranges() const {
   return s.empty() ? "none" : s;
 }
 
+std::string VisibilityTally::describe_missing() const {
+  std::string s;
+  std::uint64_t next = 0;
+  auto add = [&](std::uint64_t a, std::uint64_t b) {
+    if (a >= b) return;
+    if (!s.empty()) s += ", ";
+    s += std::to_string(a) + ".." + std::to_string(b);
+  };
+  for (const auto& r : camera_ranges) {
+    add(next, r.first);
+    next = r.second;
+  }
+  add(next, key.camera_count);
+  return s.empty() ? "none" : s;
+}
+
 void VisibilityTally::write(const std::string& path) const {
   ByteWriter w;
   w.bytes.assign(kMagic, kMagic + 8);

@@ -342,8 +342,8 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
     throw UsageError("the tally was made for a different mesh, resolution or refinement");
   }
   if (!tally.complete()) {
-    throw UsageError("the tally covers cameras " + tally.describe_ranges() + " of 0.." +
-                     std::to_string(tally.key.camera_count) + "; merge the missing slices first");
+    throw UsageError("cameras " + tally.describe_missing() + " of " + std::to_string(tally.key.camera_count) +
+                     " are missing from the tally; merge their slices first");
   }
   Visibility out;
   out.stats = stats_;

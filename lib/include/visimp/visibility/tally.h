@@ -47,6 +47,8 @@ struct VisibilityTally {
   bool complete() const;
   /// "0..129, 200..258"
   std::string describe_ranges() const;
+  /// The cameras no range covers, in the same notation ("none" when complete).
+  std::string describe_missing() const;
 
   /// Atomic write; throws IoError.
   void write(const std::string& path) const;
