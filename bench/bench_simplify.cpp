@@ -1,16 +1,12 @@
 // Simplification benchmark: visimp QB against meshoptimizer, CGAL (Garland-Heckbert plane
 // policies) and OpenMesh (Decimater + ModQuadricT), on the same meshes, in one run.
 //
-// Each method runs in a forked child so its CPU time and peak memory are its own: CPU is the
-// child's process CPU clock around the call (building the peer's mesh structure included),
-// memory is the child's peak RSS (VmHWM, reset at fork) minus its RSS at fork. The parent then measures every
+// Each method runs in a forked child (child_process.h) so its CPU time and peak memory are its
+// own (building the peer's mesh structure included). The parent then measures every
 // result against the input with the same sampled two-sided distance (visimp metrics, 1M
 // samples per direction, fixed seed) and prints ratios against visimp.
 //
 // usage: bench_simplify [MESH.ply ...]   (default: dragon, kicad_dsub62_male, fandisk_cad)
-#include <malloc.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
@@ -24,13 +20,13 @@
 
 #include <cfloat>
 #include <cstdio>
-#include <ctime>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "child_process.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/metrics/surface_distance.h"
 #include "visimp/simplify/simplify.h"
@@ -113,72 +109,33 @@ Mesh run_openmesh(const Mesh& in, std::size_t target) {
   return m;
 }
 
-long rss_kb() {
-  std::ifstream statm("/proc/self/statm");
-  long size = 0, resident = 0;
-  statm >> size >> resident;
-  return resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
-
-// Peak RSS since the last reset_peak_rss() (a forked child inherits its parent's peak).
-long peak_rss_kb() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
-  return 0;
-}
-
-void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
-
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 struct Measured {
   bool ok = false;
   std::size_t faces = 0;
   double cpu = 0, peak_mb = 0, hausdorff = 0, rms = 0;
 };
 
-// Runs `method` in a child process; the child writes its mesh to `path` and its timing to a pipe.
+// Runs `method` in a child (child_process.h) that writes its mesh to `path`, then measures
+// the result against the input.
 Measured measure(const Mesh& input, std::size_t target, const std::function<Mesh(const Mesh&, std::size_t)>& method,
                  const std::string& path) {
-  int fds[2];
-  if (pipe(fds) != 0) return {};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fds[0]);
-    malloc_trim(0);  // hand freed heap pages back, or the method reuses them unseen by RSS
-    reset_peak_rss();
-    const long base = rss_kb();
-    const double t0 = cpu_seconds();
+  const bench::ChildResult child = bench::run_in_child(1, [&] {
+    const double t0 = bench::cpu_seconds();
     const Mesh out = method(input, target);
-    const double cpu = cpu_seconds() - t0;
-    const double peak_mb = double(peak_rss_kb() - base) / 1024.0;
+    const double cpu = bench::cpu_seconds() - t0;
     visimp::write_mesh(out, path);
-    const double values[2] = {cpu, peak_mb};
-    if (write(fds[1], values, sizeof values) != sizeof values) _exit(1);
-    _exit(0);
-  }
-  close(fds[1]);
-  double values[2] = {0, 0};
-  const bool got = read(fds[0], values, sizeof values) == sizeof values;
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
+    return std::vector<double>{cpu};
+  });
   Measured m;
-  if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return m;
+  if (!child.ok) return m;
   const Mesh out = visimp::read_mesh(path);
   visimp::SurfaceDistanceOptions d;
   d.samples = 1000000;
   const visimp::SurfaceDistance dist = visimp::surface_distance(input, out, d);
   m.ok = true;
   m.faces = out.num_faces();
-  m.cpu = values[0];
-  m.peak_mb = values[1];
+  m.cpu = child.values[0];  // the method alone, not writing its result
+  m.peak_mb = child.peak_mb;
   m.hausdorff = dist.hausdorff / dist.diagonal;
   m.rms = dist.rms / dist.diagonal;
   return m;

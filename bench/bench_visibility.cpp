@@ -1,0 +1,113 @@
+// Visibility benchmark: both frame backends side by side on the same meshes, 258 cameras at
+// 480², in one run, plus the "floor": the least work any rasterizer must do (project every
+// vertex and read every face once per camera). Each backend runs in a forked child
+// (child_process.h) for its own CPU time and peak memory.
+//
+// usage: bench_visibility [MESH.ply ...]   (default: dragon, bunny)
+#include <atomic>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "child_process.h"
+#include "visimp/core/bounding_box.h"
+#include "visimp/io/mesh_io.h"
+#include "visimp/render/osmesa_renderer.h"
+#include "visimp/visibility/visibility.h"
+
+namespace {
+
+using visimp::Mesh;
+
+// Paper values (Zhang & Turk 2002, Table 1), for the docs' comparison.
+double paper_visibility(const std::string& name) {
+  if (name.find("dragon") != std::string::npos) return 0.804;
+  if (name.find("bunny") != std::string::npos) return 0.958;
+  return -1;
+}
+
+// A consumer that does nothing: what rendering alone costs.
+struct Discard final : visimp::FrameConsumer {
+  void begin(unsigned) override {}
+  void consume(const visimp::Frame&, std::size_t, unsigned) override {}
+};
+
+// The floor: per camera, project the vertices and touch every face's three vertices.
+std::vector<double> floor_pass(const Mesh& input, const visimp::CameraSet& cameras, int resolution) {
+  // The same faces the backends render: after refinement.
+  const visimp::BoundingBox box = visimp::bounding_box(input);
+  const auto refined = visimp::refine_long_edges(
+      input, visimp::refinement_edge_length(0.5 * box.diagonal() * 1.01, resolution, 0.25), 30000000);
+  const Mesh& mesh = refined ? refined->mesh : input;
+  const visimp::RenderScene scene = visimp::RenderScene::from_mesh(mesh, false);
+  const unsigned workers = visimp::worker_count(0, cameras.size());
+  std::vector<std::vector<visimp::ScreenVertex>> screen(workers);
+  std::atomic<std::uint64_t> sink{0};
+  const double w0 = bench::wall_seconds();
+  visimp::for_each_camera(0, cameras.size(), workers, nullptr, [&](unsigned w, std::size_t c) {
+    const auto view = visimp::OrthoView::looking_from(cameras.directions[c], scene.radius, resolution);
+    visimp::project_vertices(scene, view, screen[w]);
+    std::uint64_t covered = 0;
+    for (const visimp::Face& f : scene.faces) {
+      const float x = std::min({screen[w][f[0]].x, screen[w][f[1]].x, screen[w][f[2]].x});
+      covered += x > 0.5f * static_cast<float>(resolution) ? 1 : 0;
+    }
+    sink += covered;
+  });
+  return {bench::wall_seconds() - w0, static_cast<double>(mesh.num_faces())};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> meshes;
+  for (int i = 1; i < argc; ++i) meshes.push_back(argv[i]);
+  if (meshes.empty())
+    for (const char* f : {"dragon.ply", "bunny.ply"}) meshes.push_back(std::string(VISIMP_SHARED_MESHES_DIR) + "/" + f);
+  const visimp::CameraSet cameras = visimp::octahedron_cameras(3);
+  const int resolution = 480;
+  std::printf("| mesh | faces | faces rendered | method | prepare s | render+tally s (wall) | render only s (wall) | "
+              "CPU s | peak MB | V(M) | paper V(M) | render vs floor | vs raster |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& path : meshes) {
+    const Mesh mesh = visimp::read_mesh(path);
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    const bench::ChildResult floor = bench::run_in_child(2, [&] { return floor_pass(mesh, cameras, resolution); });
+    std::printf("| %s | %zu | %.0f | floor | | %.3f | | %.3f | %.1f | | | 1.00 | |\n", name.c_str(), mesh.num_faces(),
+                floor.values[1], floor.values[0], floor.cpu, floor.peak_mb);
+    double raster_render = 0;
+    for (const char* backend : {"raster", "osmesa"}) {
+      const bench::ChildResult r = bench::run_in_child(6, [&] {
+        const visimp::RenderOptions options{resolution, 0};
+        auto renderer = std::string(backend) == "raster" ? visimp::make_raster_renderer(options)
+                                                         : visimp::make_osmesa_renderer(options);
+        double t = bench::wall_seconds();
+        const visimp::VisibilityJob job(mesh, resolution, {});
+        const double prepare = bench::wall_seconds() - t;
+        t = bench::wall_seconds();
+        const visimp::VisibilityTally tally = job.render(cameras, 0, cameras.size(), *renderer);
+        const double render = bench::wall_seconds() - t;
+        const visimp::Visibility v = job.finish(tally);
+        // Rendering alone, for the split between the backend and the tally.
+        const visimp::RenderScene scene = visimp::RenderScene::from_mesh(mesh, job.stats().back_faces_culled);
+        Discard discard;
+        t = bench::wall_seconds();
+        renderer->render(scene, cameras, 0, cameras.size(), discard);
+        const double render_only = bench::wall_seconds() - t;
+        return std::vector<double>{prepare, render, render_only, v.mesh, double(job.stats().refined_faces), 0};
+      });
+      if (!r.ok) {
+        std::printf("| %s | %zu | | %s | failed | | | | | | | | |\n", name.c_str(), mesh.num_faces(), backend);
+        continue;
+      }
+      if (std::string(backend) == "raster") raster_render = r.values[1];
+      const double paper = paper_visibility(name);
+      std::printf("| %s | %zu | %.0f | %s | %.3f | %.3f | %.3f | %.2f | %.1f | %.3f | %s | %.2f | %.2f |\n", name.c_str(),
+                  mesh.num_faces(), r.values[4], backend, r.values[0], r.values[1], r.values[2], r.cpu, r.peak_mb,
+                  r.values[3], paper > 0 ? std::to_string(paper).substr(0, 5).c_str() : "", r.values[1] / floor.values[0],
+                  r.values[1] / raster_render);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,93 @@
+// Runs one benchmarked method in a forked child so its CPU time and peak memory are its
+// own: CPU is the child's process CPU clock around the call; memory is the child's peak RSS
+// (VmHWM, reset at fork) minus its RSS at fork, after handing freed heap pages back.
+#pragma once
+
+#include <malloc.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+inline long rss_kb() {
+  std::ifstream statm("/proc/self/statm");
+  long size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// Peak RSS since the last reset_peak_rss() (a forked child inherits its parent's peak).
+inline long peak_rss_kb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+
+inline void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+inline double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+inline double wall_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct ChildResult {
+  bool ok = false;
+  double cpu = 0, wall = 0, peak_mb = 0;
+  std::vector<double> values;  ///< what the method reported
+};
+
+/// Runs `method` in a child; it returns `count` numbers of its own (stage times, results).
+inline ChildResult run_in_child(std::size_t count, const std::function<std::vector<double>()>& method) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    malloc_trim(0);  // hand freed heap pages back, or the method reuses them unseen by RSS
+    reset_peak_rss();
+    const long base = rss_kb();
+    const double c0 = cpu_seconds(), w0 = wall_seconds();
+    std::vector<double> values = method();
+    values.resize(count);
+    values.push_back(cpu_seconds() - c0);
+    values.push_back(wall_seconds() - w0);
+    values.push_back(double(peak_rss_kb() - base) / 1024.0);
+    const auto bytes = static_cast<ssize_t>(values.size() * sizeof(double));
+    if (write(fds[1], values.data(), static_cast<std::size_t>(bytes)) != bytes) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::vector<double> values(count + 3, 0.0);
+  const auto bytes = static_cast<ssize_t>(values.size() * sizeof(double));
+  const bool got = read(fds[0], values.data(), static_cast<std::size_t>(bytes)) == bytes;
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ChildResult r;
+  if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return r;
+  r.ok = true;
+  r.peak_mb = values.back();
+  values.pop_back();
+  r.wall = values.back();
+  values.pop_back();
+  r.cpu = values.back();
+  values.pop_back();
+  r.values = values;
+  return r;
+}
+
+}  // namespace bench
