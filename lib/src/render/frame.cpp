@@ -31,6 +31,28 @@ RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces) {
   return scene;
 }
 
+void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals) {
+  clusters.assign((faces.size() + kClusterSize - 1) / kClusterSize, NormalCone{});
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    const std::size_t first = c * kClusterSize, last = std::min(faces.size(), first + kClusterSize);
+    Vec3 sum;
+    for (std::size_t t = first; t < last; ++t) sum += Vec3(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+    const double length = norm(sum);
+    if (length == 0) continue;
+    const Vec3 axis = sum / length;
+    double min_cos = 1;
+    for (std::size_t t = first; t < last; ++t) {
+      const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+      if (squared_norm(n) > 0) min_cos = std::min(min_cos, dot(axis, n));
+    }
+    if (min_cos <= 0.01) continue;  // a cone of ~90° or more never lies wholly behind
+    NormalCone& cone = clusters[c];
+    cone.axis = {static_cast<float>(axis.x), static_cast<float>(axis.y), static_cast<float>(axis.z)};
+    // Margin: float normals, and screen-space culling of faces seen almost edge-on.
+    cone.cutoff = static_cast<float>(-std::sqrt(1 - min_cos * min_cos) - 0.01);
+  }
+}
+
 OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int resolution) {
   OrthoView view;
   view.direction = direction / norm(direction);

@@ -60,16 +60,18 @@ class RasterRenderer final : public Renderer {
     consumer.begin(workers);
     std::vector<Frame> frames(workers);
     std::vector<std::vector<SnappedVertex>> snapped(workers);
+    std::vector<std::vector<std::uint32_t>> candidates(workers);
     for_each_camera(first, last, workers, observer, [&](unsigned worker, std::size_t camera) {
       Frame& frame = frames[worker];
       frame.view = OrthoView::looking_from(cameras.directions[camera], scene.radius, options_.resolution);
-      draw(scene, frame, snapped[worker]);
+      draw(scene, frame, snapped[worker], candidates[worker]);
       consumer.consume(frame, camera, worker);
     });
   }
 
  private:
-  static void draw(const RenderScene& scene, Frame& frame, std::vector<SnappedVertex>& snapped) {
+  static void draw(const RenderScene& scene, Frame& frame, std::vector<SnappedVertex>& snapped,
+                   std::vector<std::uint32_t>& candidates) {
     const int size = frame.resolution();
     const std::size_t pixels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
     frame.ids.assign(pixels, 0);
@@ -78,35 +80,58 @@ class RasterRenderer final : public Renderer {
     const std::vector<ScreenVertex>& v = frame.vertices;
     snapped.resize(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) snapped[i] = snap(v[i]);
+
+    const std::array<float, 3> direction{static_cast<float>(frame.view.direction.x),
+                                         static_cast<float>(frame.view.direction.y),
+                                         static_cast<float>(frame.view.direction.z)};
+    const bool use_clusters = scene.cull_back_faces && !scene.clusters.empty();
+    const std::size_t face_count = scene.faces.size();
+    // Pass 1, branch-free per face: keep the faces that may own a pixel centre (front-facing
+    // when culling, and with a pixel centre inside their box). Most faces of a big mesh
+    // cover none, and a data-dependent branch per face costs more than the test itself.
+    candidates.resize(RenderScene::kClusterSize);
+    for (std::size_t first = 0; first < face_count; first += RenderScene::kClusterSize) {
+      if (use_clusters && scene.clusters[first / RenderScene::kClusterSize].all_back_facing(direction)) continue;
+      const std::size_t last = std::min(face_count, first + RenderScene::kClusterSize);
+      std::size_t kept = 0;
+      for (std::size_t f = first; f < last; ++f) {
+        const Face& face = scene.faces[f];
+        const SnappedVertex p0 = snapped[face[0]], p1 = snapped[face[1]], p2 = snapped[face[2]];
+        const bool facing = !scene.cull_back_faces ||
+                            std::int64_t{p1.x - p0.x} * (p2.y - p0.y) > std::int64_t{p1.y - p0.y} * (p2.x - p0.x);
+        const bool has_x = first_centre(std::min({p0.x, p1.x, p2.x})) <= last_centre(std::max({p0.x, p1.x, p2.x}));
+        const bool has_y = first_centre(std::min({p0.y, p1.y, p2.y})) <= last_centre(std::max({p0.y, p1.y, p2.y}));
+        candidates[kept] = static_cast<std::uint32_t>(f);
+        kept += static_cast<std::size_t>(facing & has_x & has_y);
+      }
+      for (std::size_t k = 0; k < kept; ++k) draw_face(scene, candidates[k], snapped, frame);
+    }
+  }
+
+  // Pass 2: one face that may own pixel centres.
+  static void draw_face(const RenderScene& scene, std::uint32_t f, const std::vector<SnappedVertex>& snapped,
+                        Frame& frame) {
+    const std::vector<ScreenVertex>& v = frame.vertices;
+    const int size = frame.resolution();
     std::uint32_t* ids = frame.ids.data();
     float* depth = frame.depth.data();
-
-    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-      const Face& face = scene.faces[f];
-      const SnappedVertex p0 = snapped[face[0]], p1 = snapped[face[1]], p2 = snapped[face[2]];
-      // Back faces of a closed mesh go first: half the faces, two multiplications each.
-      if (scene.cull_back_faces && std::int64_t{p1.x - p0.x} * (p2.y - p0.y) <= std::int64_t{p1.y - p0.y} * (p2.x - p0.x)) {
-        continue;
-      }
-      // Cheap reject first: most faces of a big mesh cover no pixel centre at all.
-      int x0 = first_centre(std::min({p0.x, p1.x, p2.x})), x1 = last_centre(std::max({p0.x, p1.x, p2.x}));
-      if (x0 > x1) continue;
-      int y0 = first_centre(std::min({p0.y, p1.y, p2.y})), y1 = last_centre(std::max({p0.y, p1.y, p2.y}));
-      if (y0 > y1) continue;
-      x0 = std::max(x0, 0);
-      y0 = std::max(y0, 0);
-      x1 = std::min(x1, size - 1);
-      y1 = std::min(y1, size - 1);
-      if (x0 > x1 || y0 > y1) continue;
+    const Face& face = scene.faces[f];
+    const SnappedVertex p0 = snapped[face[0]], p1 = snapped[face[1]], p2 = snapped[face[2]];
+    {
+      int x0 = std::max(first_centre(std::min({p0.x, p1.x, p2.x})), 0);
+      int x1 = std::min(last_centre(std::max({p0.x, p1.x, p2.x})), size - 1);
+      int y0 = std::max(first_centre(std::min({p0.y, p1.y, p2.y})), 0);
+      int y1 = std::min(last_centre(std::max({p0.y, p1.y, p2.y})), size - 1);
+      if (x0 > x1 || y0 > y1) return;
 
       FixedPoint a{p0.x, p0.y}, b{p1.x, p1.y}, c{p2.x, p2.y};
       const ScreenVertex* s0 = &v[face[0]];
       const ScreenVertex* s1 = &v[face[1]];
       const ScreenVertex* s2 = &v[face[2]];
       std::int64_t area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-      if (area2 == 0) continue;
+      if (area2 == 0) return;
       if (area2 < 0) {
-        if (scene.cull_back_faces) continue;
+        if (scene.cull_back_faces) return;
         std::swap(b, c);
         std::swap(s1, s2);
         area2 = -area2;

@@ -96,6 +96,11 @@ struct FaceTally {
 
 // Per-worker accumulators; see the file comment for the four steps.
 class TallyConsumer final : public FrameConsumer {
+  struct Worker {
+    std::vector<FaceTally> tally;
+    std::vector<std::uint16_t> owned;  // pixels owned in the current frame (saturating)
+    std::vector<float> depth_gap;      // per vertex: how far behind the depth buffer it is
+  };
  public:
   TallyConsumer(const RenderScene& scene, const std::vector<std::array<float, 3>>& face_normals,
                 const VisibilityOptions& options)
@@ -120,36 +125,51 @@ class TallyConsumer final : public FrameConsumer {
     if (options_.depth_test) measure_depth_gaps(frame, w.depth_gap);
     const std::array<float, 256> tolerance = tolerance_by_weight(frame.resolution());
 
-    const float pixel_area = 1.0f;
-    for (std::size_t t = 0; t < faces; ++t) {
-      const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
-      if (q == 0) continue;
-      FaceTally& tally = w.tally[t];
-      tally.total += q;
-      const std::uint32_t owned = w.owned[t];
-      bool depth_visible = false;
-      if (owned == 0 && options_.depth_test) {
-        const Face& f = scene_.faces[t];
-        const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
-        depth_visible = gap <= tolerance[q >> 8];
-      }
-      if (owned == 0 && !depth_visible) continue;
-      if (!options_.fractional) {
-        tally.seen += q;
+    for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
+      // No face of such a cluster has weight for this camera.
+      if (scene_.clusters[first / RenderScene::kClusterSize].all_back_facing(direction)) continue;
+      const std::size_t last = std::min(faces, first + RenderScene::kClusterSize);
+      if (options_.fractional) {
+        for (std::size_t t = first; t < last; ++t) add_fractional(t, direction, frame, tolerance, w);
         continue;
       }
-      // Fraction of the projected area that owns pixels; a face smaller than a pixel that
-      // is seen at all counts as wholly seen.
-      const Face& f = scene_.faces[t];
-      const ScreenVertex &a = frame.vertices[f[0]], &b = frame.vertices[f[1]], &c = frame.vertices[f[2]];
-      const float area = 0.5f * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
-      const float covered = std::max(static_cast<float>(owned), 1.0f) * pixel_area;
-      const float fraction = std::min(1.0f, covered / std::max(area, pixel_area));
-      tally.seen += static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
+      // Binary F without data-dependent branches: a face with q = 0 adds nothing anyway.
+      for (std::size_t t = first; t < last; ++t) {
+        const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
+        FaceTally& tally = w.tally[t];
+        tally.total += q;
+        bool visible = w.owned[t] != 0;
+        if (options_.depth_test) {
+          const Face& f = scene_.faces[t];
+          const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
+          visible |= gap <= tolerance[q >> 8];
+        }
+        tally.seen += visible ? q : 0u;
+      }
     }
     for (std::size_t p = 0; p < pixels; ++p) {
       if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
     }
+  }
+
+  // F = the fraction of the projected area that owns pixels; a face smaller than a pixel
+  // that is seen at all counts as wholly seen.
+  void add_fractional(std::size_t t, const std::array<float, 3>& direction, const Frame& frame,
+                      const std::array<float, 256>& tolerance, Worker& w) const {
+    const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
+    if (q == 0) return;
+    FaceTally& tally = w.tally[t];
+    tally.total += q;
+    const Face& f = scene_.faces[t];
+    const std::uint32_t owned = w.owned[t];
+    if (owned == 0) {
+      const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
+      if (!options_.depth_test || gap > tolerance[q >> 8]) return;
+    }
+    const ScreenVertex &a = frame.vertices[f[0]], &b = frame.vertices[f[1]], &c = frame.vertices[f[2]];
+    const float area = 0.5f * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+    const float fraction = std::min(1.0f, std::max(static_cast<float>(owned), 1.0f) / std::max(area, 1.0f));
+    tally.seen += static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
   }
 
   /// Sum of all workers' tallies.
@@ -163,11 +183,7 @@ class TallyConsumer final : public FrameConsumer {
   }
 
  private:
-  struct Worker {
-    std::vector<FaceTally> tally;
-    std::vector<std::uint16_t> owned;  // pixels owned in the current frame (saturating)
-    std::vector<float> depth_gap;      // per vertex: how far behind the depth buffer it is
-  };
+
 
   // How far each vertex lies behind the farthest of the depth buffer's values at the four
   // pixel centres around it (negative: in front). A vertex of the visible surface is at
@@ -293,6 +309,7 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
       scene_.faces[t][k] = v;
     }
   }
+  scene_.compute_normal_cones(unit_normals_);
   mesh_hash_ = hash_mesh(mesh);
   stats_.seconds_refine = seconds_since(start);
 }

@@ -24,13 +24,33 @@
 
 namespace visimp {
 
+/// The normals of a run of consecutive faces lie within a cone: when a camera direction d
+/// has dot(axis, d) < cutoff, every face of the run turns its back to that camera.
+struct NormalCone {
+  std::array<float, 3> axis{0, 0, 0};
+  float cutoff = -2;  ///< -sin(half-angle) minus a margin; -2 (never) for a cone of 90° or more
+
+  bool all_back_facing(const std::array<float, 3>& d) const {
+    return axis[0] * d[0] + axis[1] * d[1] + axis[2] * d[2] < cutoff;
+  }
+};
+
 /// Geometry prepared for rendering: positions relative to the bounding-sphere centre, in
 /// float (relative coordinates keep float precise however far the mesh is from the origin).
 struct RenderScene {
+  static constexpr std::size_t kClusterSize = 64;
+
   std::vector<std::array<float, 3>> positions;
   std::vector<Face> faces;
   double radius = 1;             ///< bounding-sphere radius, in the units of `positions`
   bool cull_back_faces = false;  ///< exact only for closed, outward-oriented meshes
+  /// Empty, or one cone per kClusterSize consecutive faces: lets a backend that culls back
+  /// faces, and a consumer that ignores them, skip whole clusters. Worth it when faces are
+  /// in a spatially coherent order (see visibility.cpp).
+  std::vector<NormalCone> clusters;
+
+  /// Fills `clusters` from the given unit face normals (zero for degenerate faces).
+  void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals);
 
   static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces);
 };
