@@ -89,10 +89,9 @@ int main(int argc, char** argv) {
         const double render = bench::wall_seconds() - t;
         const visimp::Visibility v = job.finish(tally);
         // Rendering alone, for the split between the backend and the tally.
-        const visimp::RenderScene scene = visimp::RenderScene::from_mesh(mesh, job.stats().back_faces_culled);
         Discard discard;
         t = bench::wall_seconds();
-        renderer->render(scene, cameras, 0, cameras.size(), discard);
+        renderer->render(job.scene(), cameras, 0, cameras.size(), discard);
         const double render_only = bench::wall_seconds() - t;
         return std::vector<double>{prepare, render, render_only, v.mesh, double(job.stats().refined_faces), 0};
       });

@@ -89,6 +89,8 @@ class VisibilityJob {
   TallyKey key(const CameraSet& cameras) const;
   const VisibilityStats& stats() const { return stats_; }
   std::uint64_t mesh_hash() const { return mesh_hash_; }
+  /// The refined faces in render order: feed it to other FrameConsumers for one sampling.
+  const RenderScene& scene() const { return scene_; }
 
  private:
   const Mesh& input_;
