@@ -67,6 +67,8 @@ Axis make_axis(bool log, const std::vector<double>& values) {
     hi = log ? 10 : 1;
   }
   if (log) {
+    lo /= 1.3;  // keep points off the frame
+    hi *= 1.3;
     if (hi / lo < 10) {
       lo = std::pow(10.0, std::floor(std::log10(lo)));
       hi = std::pow(10.0, std::ceil(std::log10(hi)));
