@@ -1,12 +1,13 @@
 // The visibility measure (see visibility.h; Zhang & Turk 2002, eqs. 3.2 and 4.3).
 //
 // Per camera, on the worker that rendered the frame:
-//   1. every pixel marks the face it shows as seen (`owned`);
+//   1. every pixel marks the face it shows as seen (binary F: the frame's number in
+//      `seen_in_frame`, so nothing needs clearing; fractional F: a pixel count in `owned`);
 //   2. depth test: a vertex counts as visible when it is not behind the depth buffer by more
 //      than the tolerance at one of the four pixel centres around it;
 //   3. one pass over the faces adds q(R·N) to `total` for every face turned toward the
 //      camera and to `seen` when the face owns a pixel or one of its vertices is visible;
-//   4. the owned marks are cleared through the same pixels.
+//   4. (fractional F only) the counts are cleared through the same pixels.
 // Workers add integers into their own arrays, summed at the end: any thread count gives
 // the same bits.
 #include "visimp/visibility/visibility.h"
@@ -98,7 +99,9 @@ struct FaceTally {
 class TallyConsumer final : public FrameConsumer {
   struct Worker {
     std::vector<FaceTally> tally;
-    std::vector<std::uint16_t> owned;  // pixels owned in the current frame (saturating)
+    std::vector<std::uint16_t> owned;  // fractional F: pixels owned in the current frame (saturating)
+    std::vector<std::uint32_t> seen_in_frame;  // binary F: number of the last frame the face owned a pixel in
+    std::uint32_t frame_number = 0;
     std::vector<float> depth_gap;      // per vertex: how far behind the depth buffer it is
   };
  public:
@@ -113,14 +116,23 @@ class TallyConsumer final : public FrameConsumer {
     const std::size_t faces = scene_.faces.size();
     if (w.tally.empty()) {
       w.tally.resize(faces);
-      w.owned.assign(faces, 0);
+      if (options_.fractional) w.owned.assign(faces, 0);
+      w.seen_in_frame.assign(faces, 0);
       w.depth_gap.assign(scene_.positions.size(), 0.0f);
     }
     const std::array<float, 3> direction = to_float(frame.view.direction);
     const std::uint32_t* ids = frame.ids.data();
     const std::size_t pixels = frame.ids.size();
-    for (std::size_t p = 0; p < pixels; ++p) {
-      if (ids[p] != 0 && w.owned[ids[p] - 1] != 0xffffu) ++w.owned[ids[p] - 1];
+    const std::uint32_t frame_number = ++w.frame_number;
+    if (options_.fractional) {
+      for (std::size_t p = 0; p < pixels; ++p) {
+        if (ids[p] != 0 && w.owned[ids[p] - 1] != 0xffffu) ++w.owned[ids[p] - 1];
+      }
+    } else {
+      std::uint32_t* seen = w.seen_in_frame.data();
+      for (std::size_t p = 0; p < pixels; ++p) {
+        if (ids[p] != 0) seen[ids[p] - 1] = frame_number;
+      }
     }
     if (options_.depth_test) measure_depth_gaps(frame, w.depth_gap);
     const std::array<float, 256> tolerance = tolerance_by_weight(frame.resolution());
@@ -138,7 +150,7 @@ class TallyConsumer final : public FrameConsumer {
         const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
         FaceTally& tally = w.tally[t];
         tally.total += q;
-        bool visible = w.owned[t] != 0;
+        bool visible = w.seen_in_frame[t] == frame_number;
         if (options_.depth_test) {
           const Face& f = scene_.faces[t];
           const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
@@ -147,8 +159,10 @@ class TallyConsumer final : public FrameConsumer {
         tally.seen += visible ? q : 0u;
       }
     }
-    for (std::size_t p = 0; p < pixels; ++p) {
-      if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
+    if (options_.fractional) {
+      for (std::size_t p = 0; p < pixels; ++p) {
+        if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
+      }
     }
   }
 
