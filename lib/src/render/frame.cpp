@@ -88,6 +88,23 @@ void project_vertices(const RenderScene& scene, const OrthoView& view, std::vect
   }
 }
 
+void render_frames(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
+                   const RenderOptions& options, FrameConsumer& consumer, RenderObserver* observer,
+                   const std::function<void(unsigned workers)>& prepare,
+                   const std::function<void(unsigned worker, Frame& frame)>& draw) {
+  last = std::min(last, cameras.size());
+  const unsigned workers = worker_count(options.threads, last > first ? last - first : 1);
+  prepare(workers);
+  consumer.begin(workers);
+  std::vector<Frame> frames(workers);
+  for_each_camera(first, last, workers, observer, [&](unsigned worker, std::size_t camera) {
+    Frame& frame = frames[worker];
+    frame.view = OrthoView::looking_from(cameras.directions[camera], scene.radius, options.resolution);
+    draw(worker, frame);
+    consumer.consume(frame, camera, worker);
+  });
+}
+
 Frame render_view(Renderer& renderer, const RenderScene& scene, const Vec3& direction) {
   struct Capture final : FrameConsumer {
     Frame frame;

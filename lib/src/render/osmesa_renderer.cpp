@@ -189,19 +189,15 @@ class OsmesaRenderer final : public Renderer {
 
   void render(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
               FrameConsumer& consumer, RenderObserver* observer) override {
-    last = std::min(last, cameras.size());
-    const unsigned workers = worker_count(options_.threads, last > first ? last - first : 1);
-    consumer.begin(workers);
-    std::vector<Frame> frames(workers);
-    std::vector<std::unique_ptr<GlWorker>> gl(workers);
-    for_each_camera(first, last, workers, observer, [&](unsigned worker, std::size_t camera) {
-      if (!gl[worker]) gl[worker] = std::make_unique<GlWorker>(scene, options_.resolution);
-      Frame& frame = frames[worker];
-      frame.view = OrthoView::looking_from(cameras.directions[camera], scene.radius, options_.resolution);
-      gl[worker]->draw(frame);
-      project_vertices(scene, frame.view, frame.vertices);
-      consumer.consume(frame, camera, worker);
-    });
+    std::vector<std::unique_ptr<GlWorker>> gl;
+    render_frames(
+        scene, cameras, first, last, options_, consumer, observer, [&](unsigned workers) { gl.resize(workers); },
+        [&](unsigned worker, Frame& frame) {
+          // Each context is created on, and used by, the one thread of its worker.
+          if (!gl[worker]) gl[worker] = std::make_unique<GlWorker>(scene, options_.resolution);
+          gl[worker]->draw(frame);
+          project_vertices(scene, frame.view, frame.vertices);
+        });
   }
 
  private:

@@ -55,18 +55,15 @@ class RasterRenderer final : public Renderer {
 
   void render(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
               FrameConsumer& consumer, RenderObserver* observer) override {
-    last = std::min(last, cameras.size());
-    const unsigned workers = worker_count(options_.threads, last > first ? last - first : 1);
-    consumer.begin(workers);
-    std::vector<Frame> frames(workers);
-    std::vector<std::vector<SnappedVertex>> snapped(workers);
-    std::vector<std::vector<std::uint32_t>> candidates(workers);
-    for_each_camera(first, last, workers, observer, [&](unsigned worker, std::size_t camera) {
-      Frame& frame = frames[worker];
-      frame.view = OrthoView::looking_from(cameras.directions[camera], scene.radius, options_.resolution);
-      draw(scene, frame, snapped[worker], candidates[worker]);
-      consumer.consume(frame, camera, worker);
-    });
+    std::vector<std::vector<SnappedVertex>> snapped;
+    std::vector<std::vector<std::uint32_t>> candidates;
+    render_frames(
+        scene, cameras, first, last, options_, consumer, observer,
+        [&](unsigned workers) {
+          snapped.resize(workers);
+          candidates.resize(workers);
+        },
+        [&](unsigned worker, Frame& frame) { draw(scene, frame, snapped[worker], candidates[worker]); });
   }
 
  private:

@@ -63,6 +63,15 @@ void check_render_options(const RenderOptions& options);
 void for_each_camera(std::size_t first, std::size_t last, unsigned workers, RenderObserver* observer,
                      const std::function<void(unsigned worker, std::size_t camera)>& job);
 
+/// The loop every backend shares: for each camera of [first, last) on worker threads, set
+/// up the worker's frame for the view, let `draw(worker, frame)` fill ids, depth and
+/// vertices, and hand the frame to the consumer. `prepare(workers)` runs first, on the
+/// calling thread, so a backend can size its per-worker state.
+void render_frames(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
+                   const RenderOptions& options, FrameConsumer& consumer, RenderObserver* observer,
+                   const std::function<void(unsigned workers)>& prepare,
+                   const std::function<void(unsigned worker, Frame& frame)>& draw);
+
 /// Number of workers for `threads` (0 = hardware concurrency), never more than `jobs`.
 unsigned worker_count(unsigned threads, std::size_t jobs);
 
