@@ -1,0 +1,39 @@
+// libFuzzer target for read → simplify → write. The first byte picks the format and the
+// target ratio; the rest is the file. Accepted meshes must simplify to a valid mesh with
+// finite coordinates that writes without error.
+#include <cstdint>
+#include <cstdlib>
+#include <sstream>
+#include <string_view>
+
+#include "visimp/core/errors.h"
+#include "visimp/core/validate.h"
+#include "visimp/io/mesh_io.h"
+#include "visimp/simplify/simplify.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace visimp;
+  if (size < 1) return 0;
+  const Format formats[] = {Format::ply, Format::obj, Format::off, Format::stl};
+  const Format format = formats[data[0] % 4];
+  const double ratio = 0.05 + 0.9 * ((data[0] >> 2) / 63.0);
+  const std::string_view bytes(reinterpret_cast<const char*>(data + 1), size - 1);
+  Mesh mesh;
+  try {
+    mesh = read_mesh_from_bytes(bytes, format, "fuzz-input");
+  } catch (const IoError&) {
+    return 0;
+  } catch (const InvalidMeshError&) {
+    return 0;
+  }
+  if (mesh.num_faces() > 20000) return 0;  // keep each run fast
+  SimplifyOptions options;
+  options.target_ratio = ratio;
+  const Simplified out = simplify(mesh, options);
+  if (!validate(out.mesh).ok()) std::abort();
+  for (const Vec3& p : out.mesh.positions)
+    if (!is_finite(p)) std::abort();
+  std::ostringstream written;
+  write_mesh(out.mesh, written, Format::ply);
+  return 0;
+}
