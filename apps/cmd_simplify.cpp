@@ -57,6 +57,7 @@ int run_simplify(const Args& args) {
         .field("collapses", r.collapses)
         .field("rejected_collapses", r.rejected_collapses)
         .field("locked_vertices", r.locked_vertices)
+        .field("dropped_faces", r.dropped_faces)
         .field("stop_reason", to_string(r.stop_reason))
         .field("max_error_relative", r.max_error)
         .field("max_error", r.max_error * diagonal)

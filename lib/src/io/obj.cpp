@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "text_scanner.h"
+#include "visimp/core/errors.h"
 
 namespace visimp {
 
@@ -35,6 +36,10 @@ Mesh read_obj(std::string_view text, const std::string& name) {
       }
       detail::append_fan(polygon, mesh.faces);
     }
+  }
+  // OBJ skips statements it does not know, so another format read as OBJ parses to nothing.
+  if (mesh.positions.empty() && mesh.faces.empty()) {
+    throw IoError(name, text.empty() ? "file is empty" : "no 'v' or 'f' statements: not an OBJ file?");
   }
   return mesh;
 }

@@ -99,6 +99,17 @@ class CollapseEngine {
     faces_ = input.faces;
     face_alive_.assign(faces_.size(), 1);
     faces_alive_ = faces_.size();
+    // A face with a repeated index is a segment or a point: no area, no plane, no place in a
+    // fan. Dropping it first keeps it from locking its vertices (junk exporters emit
+    // thousands); nothing that had area or connectivity is lost.
+    for (std::size_t f = 0; f < faces_.size(); ++f) {
+      const Face& face = faces_[f];
+      if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2]) {
+        face_alive_[f] = 0;
+        --faces_alive_;
+        ++dropped_repeated_index_faces_;
+      }
+    }
     flags_.assign(nv, kAlive);
     modified_.assign(nv, 0);
     mark_.assign(nv, 0);
@@ -173,6 +184,8 @@ class CollapseEngine {
     return out;
   }
 
+  std::size_t dropped_repeated_index_faces() const { return dropped_repeated_index_faces_; }
+
   std::size_t locked_vertices() const {
     return static_cast<std::size_t>(std::count_if(flags_.begin(), flags_.end(), [](std::uint8_t f) { return f & kLocked; }));
   }
@@ -185,19 +198,14 @@ class CollapseEngine {
     vertex_faces_.resize(positions_.size());
     for (std::size_t v = 0; v < positions_.size(); ++v) vertex_faces_[v].reserve(degree[v]);
     for (std::uint32_t f = 0; f < faces_.size(); ++f) {
-      const Face& face = faces_[f];
-      for (int k = 0; k < 3; ++k)
-        if (k == 0 || (face[k] != face[0] && (k == 1 || face[k] != face[1]))) vertex_faces_[face[k]].push_back(f);
+      if (!face_alive_[f]) continue;
+      for (VertexIndex v : faces_[f]) vertex_faces_[v].push_back(f);
     }
   }
 
-  // Locks vertices the collapse rules cannot handle (repeated-index faces, edges with 3+
-  // faces, misoriented edges, several fans, a frozen boundary) and adds boundary planes.
+  // Locks vertices the collapse rules cannot handle (edges with 3+ faces, misoriented
+  // edges, several fans, a frozen boundary) and adds boundary planes.
   void classify_vertices(const SimplifyOptions& options) {
-    for (const Face& f : faces_)
-      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2])
-        for (VertexIndex v : f) flags_[v] |= kLocked;
-
     struct Incidence {
       VertexIndex other;
       bool outgoing;        // the face runs v -> other
@@ -452,6 +460,7 @@ class CollapseEngine {
   std::vector<Face> faces_;
   std::vector<std::uint8_t> face_alive_;
   std::size_t faces_alive_ = 0;
+  std::size_t dropped_repeated_index_faces_ = 0;
   std::vector<std::vector<std::uint32_t>> vertex_faces_;
   std::vector<Quadric> quadrics_;
   std::vector<std::uint8_t> flags_;
@@ -497,6 +506,7 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   } else {
     CollapseEngine engine(input, options);
     result.locked_vertices = engine.locked_vertices();
+    result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.run(result.target_faces, options.max_error, observer, result);
     out.mesh = engine.extract();
   }

@@ -61,7 +61,8 @@ struct SimplifyResult {
   std::size_t target_faces = 0;        ///< the target in effect (0 when only max_error stops)
   std::size_t collapses = 0;
   std::size_t rejected_collapses = 0;  ///< candidates refused by a legality filter (counted per attempt)
-  std::size_t locked_vertices = 0;     ///< vertices never moved: non-manifold, misoriented, repeated-index faces, frozen boundary
+  std::size_t locked_vertices = 0;     ///< vertices never moved: non-manifold, misoriented, frozen boundary
+  std::size_t dropped_faces = 0;       ///< input faces with a repeated vertex index, removed first (no area, no fan)
   /// Largest error of a performed collapse, same unit as max_error (relative to the diagonal).
   double max_error = 0;
   StopReason stop_reason = StopReason::nothing_to_do;

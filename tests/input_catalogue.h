@@ -1,0 +1,33 @@
+// The bad-input catalogue (issue 6): broken files every reader must refuse with one clear
+// message, and valid-but-extreme meshes every stage must get through with finite output.
+// Used by the reader tests (in memory) and the app tests (as files, end to end).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "visimp/core/mesh.h"
+#include "visimp/io/mesh_io.h"
+
+namespace visimp::test {
+
+struct BadInput {
+  std::string name;
+  std::string file;      ///< file name whose extension selects the reader ("x.ply")
+  std::string bytes;
+  std::string expected;  ///< a fragment of the error message
+};
+
+/// At least 40 invalid inputs across PLY, OBJ, OFF and STL.
+std::vector<BadInput> bad_inputs();
+
+struct ExtremeMesh {
+  std::string name;
+  Mesh mesh;
+};
+
+/// Valid meshes at the edges: far offsets, tiny and huge scales, coplanar, slivers, many
+/// zero-area faces, duplicates, non-manifold edges, isolated vertices, flipped faces.
+std::vector<ExtremeMesh> extreme_meshes();
+
+}  // namespace visimp::test
