@@ -15,5 +15,7 @@ int run_convert(const Args& args);
 int run_visibility(const Args& args);
 int run_visibility_merge(const Args& args);
 int run_visibility_study(const Args& args);
+int run_metro(const Args& args);
+int run_imgerr(const Args& args);
 
 }  // namespace visimp::app

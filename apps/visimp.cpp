@@ -19,6 +19,8 @@ constexpr const char* kUsage =
     "  visibility IN OUT.ply      per-face visibility V(t) from a sphere of cameras (Zhang & Turk)\n"
     "  visibility-merge PART...   add tallies of camera slices computed separately\n"
     "  visibility-study IN        visibility error vs cameras and seconds (the paper's Fig. 3)\n"
+    "  metro A B                  sampled surface distances both ways: Hausdorff, mean, RMS, histogram\n"
+    "  imgerr A B                 image RMS error over 20 flat-shaded views (Zhang & Turk eq. 5.11)\n"
     "\n"
     "'visimp COMMAND --help' describes each command.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
@@ -44,6 +46,8 @@ int main(int argc, char** argv) {
     if (command == "visibility") return app::run_visibility(args);
     if (command == "visibility-merge") return app::run_visibility_merge(args);
     if (command == "visibility-study") return app::run_visibility_study(args);
+    if (command == "metro") return app::run_metro(args);
+    if (command == "imgerr") return app::run_imgerr(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const UsageError& e) {
     std::cerr << "visimp " << command << ": error: " << e.what() << "\n";

@@ -17,10 +17,13 @@ namespace visimp {
 
 RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces) {
   const BoundingBox box = bounding_box(mesh);
-  const Vec3 center = box.center();
-  RenderScene scene;
   // 1% margin: no vertex projects onto the image border or to depth exactly 0 or 1.
-  scene.radius = box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0;
+  return from_mesh(mesh, cull_back_faces, box.center(), box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0);
+}
+
+RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces, const Vec3& center, double radius) {
+  RenderScene scene;
+  scene.radius = radius;
   scene.positions.reserve(mesh.positions.size());
   for (const Vec3& p : mesh.positions) {
     const Vec3 q = p - center;

@@ -1,12 +1,15 @@
 // Sampled distance between two surfaces (the core of Metro: Cignoni, Rocchini & Scopigno,
-// "Metro: measuring error on simplified surfaces", 1998). Samples are the vertices plus
-// area-uniform random points on the faces (fixed seed); each point's distance to the other
-// surface is exact (CGAL AABB tree). Mean and RMS are area-weighted over the face samples;
-// the maximum also covers the vertices. Results are identical for any thread count.
+// "Metro: measuring error on simplified surfaces", 1998). Samples are the vertices, points
+// along the edges and area-uniform random points on the faces (fixed seed); each point's
+// distance to the other surface is exact (CGAL AABB tree). Mean, RMS and the histogram are
+// area-weighted over the face samples only (Metro averages vertex, edge and face samples
+// alike, which biases them toward dense regions); the maximum covers every sample.
+// Degenerate faces carry no samples and no area. Results are identical for any thread count.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "visimp/core/mesh.h"
 
@@ -19,6 +22,14 @@ struct SurfaceDistanceOptions {
   std::uint64_t seed = 1;
   /// Worker threads for the distance queries; 0 uses every core.
   int threads = 0;
+  /// Edge samples per direction, spread by length; 0 means one per face (Metro samples edges too).
+  std::size_t edge_samples = 0;
+  /// Histogram bins over [0, max] of each direction.
+  std::size_t histogram_bins = 20;
+  /// Weight A's samples by A's face quality (its visibility V) for the visible_* numbers.
+  bool visibility_weighted = false;
+  /// Keep A's per-vertex distance to B (for an error map).
+  bool vertex_errors = false;
 };
 
 /// Distances from the samples of one surface to the other, in input units.
@@ -26,7 +37,19 @@ struct DirectedDistance {
   double max = 0;   ///< one-sided Hausdorff distance (sampled)
   double mean = 0;  ///< area-weighted mean
   double rms = 0;   ///< area-weighted root mean square
-  std::size_t samples = 0;
+  std::size_t samples = 0;       ///< all samples (vertex + edge + face)
+  std::size_t face_samples = 0;  ///< those that carry area
+  double area = 0;               ///< area of the sampled surface
+  /// Share of the sampled area whose distance falls in bin i of [0, max] (sums to 1).
+  std::vector<double> histogram;
+};
+
+/// A→B again, each face sample weighted by its area times V of its face in A.
+struct VisibleDistance {
+  double max = 0;   ///< over samples on faces with V > 0
+  double mean = 0;
+  double rms = 0;
+  double visible_area = 0;  ///< Σ area·V
 };
 
 struct SurfaceDistance {
@@ -34,10 +57,14 @@ struct SurfaceDistance {
   double hausdorff = 0;   ///< max of both directions
   double rms = 0;         ///< RMS over the samples of both directions, area-weighted
   double diagonal = 0;    ///< bounding-box diagonal of A: divide by it for relative numbers
+  VisibleDistance visible;           ///< when options.visibility_weighted
+  std::vector<float> vertex_error;   ///< when options.vertex_errors: per vertex of A, input units
   double seconds = 0;
+  double seconds_sampling = 0, seconds_index = 0, seconds_queries = 0;
 };
 
-/// Throws InvalidMeshError when either mesh has no non-degenerate face.
+/// Throws InvalidMeshError when either mesh has no non-degenerate face, or when
+/// visibility_weighted is asked of an A without face quality.
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options = {});
 
 }  // namespace visimp

@@ -53,6 +53,8 @@ struct RenderScene {
   void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals);
 
   static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces);
+  /// The same in a given frame (to render several meshes from identical views).
+  static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces, const Vec3& center, double radius);
 };
 
 /// An orthographic camera on the bounding sphere looking at its centre.
