@@ -2,7 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <CGAL/Polygon_mesh_processing/distance.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <fstream>
+
 #include "test_meshes.h"
+#include "visimp/core/errors.h"
+#include "visimp/io/mesh_io.h"
 
 namespace visimp {
 namespace {
@@ -42,6 +50,84 @@ TEST(SurfaceDistance, SameNumbersForAnyThreadCount) {
   EXPECT_EQ(d1.hausdorff, d2.hausdorff);
   EXPECT_EQ(d1.rms, d2.rms);
   EXPECT_EQ(d1.a_to_b.mean, d2.a_to_b.mean);
+}
+
+TEST(SurfaceDistance, TranslatedCopyIsTheTranslationAway) {
+  // Every point of the moved sphere is exactly |t| from its own original, so no sample can
+  // be farther; the points moving straight out are nearly |t| from the surface.
+  const Mesh a = test::icosphere(4);
+  Mesh b = a;
+  const Vec3 t{0.02, -0.01, 0.015};
+  for (Vec3& p : b.positions) p += t;
+  const SurfaceDistance d = surface_distance(a, b);
+  EXPECT_LE(d.hausdorff, norm(t) * (1 + 1e-12));
+  EXPECT_GE(d.hausdorff, 0.95 * norm(t));
+}
+
+TEST(SurfaceDistance, HistogramCoversTheAreaAndEdgesAddToTheMaximumOnly) {
+  const Mesh a = test::icosphere(3), b = test::icosphere(1);
+  SurfaceDistanceOptions options;
+  options.histogram_bins = 7;
+  const SurfaceDistance d = surface_distance(a, b, options);
+  ASSERT_EQ(d.a_to_b.histogram.size(), 7u);
+  double total = 0;
+  for (double h : d.a_to_b.histogram) total += h;
+  EXPECT_NEAR(total, 1.0, 1e-9);
+  EXPECT_GT(d.a_to_b.histogram.back(), 0.0);  // the bin holding the maximum
+  EXPECT_GT(d.a_to_b.samples, d.a_to_b.face_samples);  // vertices and edges were sampled too
+}
+
+TEST(SurfaceDistance, VisibilityWeightingFollowsV) {
+  // Two planes 0.25 apart, except that half of A (x < 2) is bent further away; with V = 0 on
+  // that half the visible numbers see only the flat half.
+  Mesh a = test::grid(4);
+  for (Vec3& p : a.positions)
+    if (p.x < 2) p.z = -0.5 * (2 - p.x);
+  Mesh b = test::grid(4);
+  for (Vec3& p : b.positions) p.z += 0.25;
+  a.face_quality.assign(a.num_faces(), 1.0f);
+  SurfaceDistanceOptions options;
+  options.visibility_weighted = true;
+  const SurfaceDistance all_visible = surface_distance(a, b, options);
+  EXPECT_DOUBLE_EQ(all_visible.visible.rms, all_visible.a_to_b.rms);
+  // The visible maximum is over face samples; the plain one also over vertices and edges.
+  EXPECT_LE(all_visible.visible.max, all_visible.a_to_b.max);
+  EXPECT_GE(all_visible.visible.max, 0.95 * all_visible.a_to_b.max);
+  for (std::size_t f = 0; f < a.num_faces(); ++f) {
+    const Face& face = a.faces[f];
+    const double x = (a.positions[face[0]].x + a.positions[face[1]].x + a.positions[face[2]].x) / 3;
+    a.face_quality[f] = x < 2 ? 0.0f : 1.0f;
+  }
+  const SurfaceDistance half = surface_distance(a, b, options);
+  EXPECT_NEAR(half.visible.mean, 0.25, 1e-9);
+  EXPECT_NEAR(half.visible.max, 0.25, 1e-9);
+  EXPECT_GT(half.a_to_b.max, 0.9);
+  EXPECT_THROW(surface_distance(test::grid(2), b, options), InvalidMeshError);  // no V on A
+}
+
+TEST(SurfaceDistance, AgreesWithCgalHausdorffOnARealPair) {
+  const std::string dir = std::string(VISIMP_SHARED_MESHES_DIR) + "/../metro-ref";
+  if (!std::ifstream(dir + "/bunny.ply")) GTEST_SKIP() << "no ../shared/metro-ref";
+  const Mesh a = read_mesh(dir + "/bunny.ply"), b = read_mesh(dir + "/bunny_s10.ply");
+  SurfaceDistanceOptions options;
+  options.samples = 1000000;
+  const SurfaceDistance ours = surface_distance(a, b, options);
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  using K = CGAL::Simple_cartesian<double>;
+  auto to_cgal = [](const Mesh& m) {
+    CGAL::Surface_mesh<K::Point_3> sm;
+    std::vector<CGAL::Surface_mesh<K::Point_3>::Vertex_index> v;
+    for (const Vec3& p : m.positions) v.push_back(sm.add_vertex(K::Point_3(p.x, p.y, p.z)));
+    for (const Face& f : m.faces) sm.add_face(v[f[0]], v[f[1]], v[f[2]]);
+    return sm;
+  };
+  const auto ca = to_cgal(a), cb = to_cgal(b);
+  const double area = ours.a_to_b.area;
+  const double points_per_area = 1.5e6 / area;
+  const double cgal = std::max(
+      PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(ca, cb, PMP::parameters::number_of_points_per_area_unit(points_per_area)),
+      PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(cb, ca, PMP::parameters::number_of_points_per_area_unit(points_per_area)));
+  EXPECT_NEAR(ours.hausdorff, cgal, 0.005 * cgal) << "visimp " << ours.hausdorff << ", CGAL " << cgal;
 }
 
 }  // namespace
