@@ -44,7 +44,7 @@ class App : public ::testing::Test {
 
 TEST_F(App, HelpEverywhereExitsZero) {
   for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help", "visibility --help",
-                          "visibility-merge --help", "visibility-study --help"}) {
+                          "visibility-merge --help", "visibility-study --help", "metro --help", "imgerr --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -185,6 +185,27 @@ TEST_F(App, VisibilityStudyReportsErrorAgainstTime) {
   EXPECT_NE(r.out.find("\n2,66,"), std::string::npos) << r.out;
   EXPECT_EQ(slurp_binary(dir + "/s.csv"), r.out);
   EXPECT_NE(slurp_binary(dir + "/s.svg").find("<svg"), std::string::npos);
+}
+
+TEST_F(App, MetroAndImageErrorReportAPair) {
+  ASSERT_EQ(run("simplify " + bunny + " " + dir + "/small.ply --ratio 0.1", dir).code, 0);
+  AppRun r = run("metro " + bunny + " " + dir + "/small.ply --json --error-ply " + dir + "/err.ply", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"hausdorff_relative\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"histogram_area_share\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"diagonal_of\": \"A\""), std::string::npos) << r.out;
+  const Mesh map = read_mesh(dir + "/err.ply");
+  EXPECT_EQ(map.vertex_quality.size(), map.num_vertices());
+  r = run("metro " + bunny + " " + dir + "/small.ply", dir);
+  EXPECT_NE(r.out.find("Hausdorff distance:"), std::string::npos) << r.out;
+  r = run("imgerr " + bunny + " " + bunny + " --json --resolution 64", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"rms\": 0,"), std::string::npos) << r.out;
+  r = run("imgerr " + bunny + " " + dir + "/small.ply --resolution 64 --diff-prefix " + dir + "/diff", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/diff19.png"));
+  // V-weighted needs V on A.
+  EXPECT_EQ(run("metro " + bunny + " " + dir + "/small.ply --visible", dir).code, 1);
 }
 
 }  // namespace
