@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app_runner.h"
 #include "input_catalogue.h"
 #include "test_meshes.h"
 #include "visimp/core/validate.h"
@@ -22,23 +23,9 @@
 namespace visimp {
 namespace {
 
-struct AppRun {
-  int code;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-AppRun run(const std::string& args, const std::string& dir) {
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const int status = std::system((std::string(VISIMP_APP) + " " + args + " >" + out + " 2>" + err).c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
+using test::AppRun;
+using test::run;
+using test::slurp;
 
 class Hardening : public ::testing::Test {
  protected:

@@ -8,30 +8,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "app_runner.h"
 #include "test_meshes.h"
 #include "visimp/io/mesh_io.h"
 
 namespace visimp {
 namespace {
 
-struct AppRun {
-  int code;
-  std::string out, err;
-};
-
-AppRun run(const std::string& args, const std::string& dir, const std::string& stdin_file = "") {
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  std::string cmd = std::string(VISIMP_APP) + " " + args + " >" + out + " 2>" + err;
-  if (!stdin_file.empty()) cmd += " <" + stdin_file;
-  const int status = std::system(cmd.c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
+using test::AppRun;
+using test::run;
 
 class App : public ::testing::Test {
  protected:
@@ -122,12 +107,6 @@ TEST_F(App, ConvertRoundTripsEveryFormat) {
   }
 }
 
-std::string slurp_binary(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 TEST_F(App, VisibilityWritesQualityJsonAndAPicture) {
   const AppRun r = run("visibility " + bunny + " " + dir + "/v.ply --cameras 66 --resolution 200 --png " + dir +
@@ -140,7 +119,7 @@ TEST_F(App, VisibilityWritesQualityJsonAndAPicture) {
   const Mesh out = read_mesh(dir + "/v.ply");
   ASSERT_EQ(out.face_quality.size(), 3674u);
   ASSERT_EQ(out.vertex_quality.size(), out.num_vertices());
-  EXPECT_EQ(slurp_binary(dir + "/v.png").substr(1, 3), "PNG");
+  EXPECT_EQ(test::slurp(dir + "/v.png").substr(1, 3), "PNG");
 }
 
 TEST_F(App, VisibilitySlicesMergeToTheSameFileBitForBit) {
@@ -156,7 +135,7 @@ TEST_F(App, VisibilitySlicesMergeToTheSameFileBitForBit) {
   const AppRun merged =
       run("visibility-merge " + dir + "/b.bin " + dir + "/a.bin -o " + dir + "/merged.ply --mesh " + bunny, dir);
   ASSERT_EQ(merged.code, 0) << merged.err;
-  EXPECT_EQ(slurp_binary(dir + "/merged.ply"), slurp_binary(dir + "/whole.ply"));
+  EXPECT_EQ(test::slurp(dir + "/merged.ply"), test::slurp(dir + "/whole.ply"));
 }
 
 TEST_F(App, VisibilityRejectsBadCamerasAndOutputs) {
@@ -183,8 +162,8 @@ TEST_F(App, VisibilityStudyReportsErrorAgainstTime) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("level,cameras,seconds"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\n2,66,"), std::string::npos) << r.out;
-  EXPECT_EQ(slurp_binary(dir + "/s.csv"), r.out);
-  EXPECT_NE(slurp_binary(dir + "/s.svg").find("<svg"), std::string::npos);
+  EXPECT_EQ(test::slurp(dir + "/s.csv"), r.out);
+  EXPECT_NE(test::slurp(dir + "/s.svg").find("<svg"), std::string::npos);
 }
 
 TEST_F(App, MetroAndImageErrorReportAPair) {
