@@ -9,6 +9,7 @@
 #include "visimp/core/errors.h"
 #include "visimp/metrics/image_error.h"
 #include "visimp/metrics/surface_distance.h"
+#include "visimp/render/image.h"
 #include "visimp/report/json.h"
 
 namespace visimp::app {
@@ -51,7 +52,7 @@ void print_directed(std::ostream& out, const char* title, const DirectedDistance
 int run_metro(const Args& args) {
   SurfaceDistanceOptions options;
   StreamOptions stream;
-  std::string error_ply;
+  std::string error_ply, error_png, sampling = "random";
   std::size_t threads = 0;
   ArgParser parser("visimp metro A B [--samples N] [--visible] [--error-ply F] [--json]",
                    "Sampled distances between surfaces A and B in both directions (Metro, Cignoni et al. 1998):\n"
@@ -64,12 +65,18 @@ int run_metro(const Args& args) {
   parser.add(option_spec("--bins", "N", options.histogram_bins, "histogram bins over [0, max]"));
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
   parser.add(switch_spec("--visible", options.visibility_weighted, "also report A->B weighted by V (A's face quality)"));
+  parser.add(option_spec("--density", "D", options.density, "face samples per unit area (replaces --samples)"));
+  parser.add(option_spec("--sampling", "MODE", sampling, "random (Monte Carlo) or stratified (one point per cell of a k x k split)"));
   parser.add(option_spec("--error-ply", "FILE", error_ply, "write A with each vertex's distance to B as vertex quality"));
+  parser.add(option_spec("--error-png", "FILE", error_png, "picture of A coloured by its faces' distance to B (blue 0 .. red max)"));
   parser.add(describe_options(stream, false));
   if (!parser.parse(args)) return 0;
   if (options.histogram_bins == 0 || options.histogram_bins > 10000) throw UsageError("--bins must be in 1..10000");
   options.threads = static_cast<int>(std::min<std::size_t>(threads, 1024));
-  options.vertex_errors = !error_ply.empty();
+  options.vertex_errors = !error_ply.empty() || !error_png.empty();
+  if (sampling == "stratified") options.sampling = FaceSampling::stratified;
+  else if (sampling != "random") throw UsageError("--sampling " + sampling + ": expected random or stratified");
+  if (!(options.density >= 0) || !std::isfinite(options.density)) throw UsageError("--density must be a finite number >= 0");
   const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
   const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);
   const SurfaceDistance d = surface_distance(a, b, options);
@@ -77,6 +84,12 @@ int run_metro(const Args& args) {
     Mesh map = a;
     map.vertex_quality = d.vertex_error;
     write_output(map, error_ply, path_a, stream);
+  }
+  if (!error_png.empty()) {
+    std::vector<Rgb> colors(a.num_faces());
+    for (std::size_t f = 0; f < colors.size(); ++f)
+      colors[f] = heat_color(d.a_to_b.max > 0 ? d.face_error[f] / d.a_to_b.max : 0.0);
+    write_png(error_png, render_face_colors(a, colors, 800));
   }
   if (stream.json) {
     JsonWriter json(std::cout);

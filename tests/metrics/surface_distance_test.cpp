@@ -130,5 +130,35 @@ TEST(SurfaceDistance, AgreesWithCgalHausdorffOnARealPair) {
   EXPECT_NEAR(ours.hausdorff, cgal, 0.005 * cgal) << "visimp " << ours.hausdorff << ", CGAL " << cgal;
 }
 
+TEST(SurfaceDistance, StratifiedSamplesCoverEveryFaceExactlyOnce) {
+  // Planes 0.25 apart: every stratified sample lies on A (distance exactly 0.25 to B) and
+  // the cells of each face add up to its area.
+  const Mesh a = test::grid(4);
+  Mesh b = a;
+  for (Vec3& p : b.positions) p.z += 0.25;
+  SurfaceDistanceOptions options;
+  options.sampling = FaceSampling::stratified;
+  options.samples = 3200;  // 100 per face: a 10 x 10 split
+  const SurfaceDistance d = surface_distance(a, b, options);
+  EXPECT_NEAR(d.a_to_b.max, 0.25, 1e-12);
+  EXPECT_NEAR(d.a_to_b.mean, 0.25, 1e-12);
+  EXPECT_NEAR(d.a_to_b.area, 16.0, 1e-9);
+  EXPECT_EQ(d.a_to_b.face_samples, 3200u);
+  // Against itself a stratified sample never leaves the surface.
+  const Mesh s = test::icosphere(2);
+  EXPECT_NEAR(surface_distance(s, s, options).hausdorff, 0.0, 1e-12);
+}
+
+TEST(SurfaceDistance, DensityGivesSamplesPerUnitArea) {
+  const Mesh a = test::grid(4);  // area 16
+  SurfaceDistanceOptions options;
+  options.density = 50;  // 800 face samples
+  options.vertex_errors = true;
+  const SurfaceDistance d = surface_distance(a, a, options);
+  EXPECT_NEAR(static_cast<double>(d.a_to_b.face_samples), 800.0, 40.0);
+  EXPECT_EQ(d.face_error.size(), a.num_faces());
+  EXPECT_EQ(d.vertex_error.size(), a.num_vertices());
+}
+
 }  // namespace
 }  // namespace visimp

@@ -47,7 +47,8 @@ struct Sample {
   std::int64_t owner;  // face index for face samples, -(vertex + 1) for vertex samples, 0 for edge samples
 };
 
-std::vector<Sample> sample_surface(const Mesh& m, std::size_t count, std::size_t edge_count, std::uint64_t seed) {
+std::vector<Sample> sample_surface(const Mesh& m, std::size_t count, std::size_t edge_count, std::uint64_t seed,
+                                   FaceSampling sampling) {
   std::vector<Sample> samples;
   std::vector<char> used(m.num_vertices(), 0);
   for (const Face& f : m.faces)
@@ -92,11 +93,32 @@ std::vector<Sample> sample_surface(const Mesh& m, std::size_t count, std::size_t
   for (std::size_t f = 0; f < m.num_faces(); ++f) {
     if (area[f] == 0) continue;
     const std::size_t n = static_cast<std::size_t>(std::floor(double(count) * area[f] / total + rng.uniform()));
+    if (n == 0) continue;
     const Vec3 &a = m.positions[m.faces[f][0]], &b = m.positions[m.faces[f][1]], &c = m.positions[m.faces[f][2]];
-    for (std::size_t i = 0; i < n; ++i) {
-      const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
-      samples.push_back({a * (1 - r1) + b * (r1 * (1 - r2)) + c * (r1 * r2), area[f] / double(n),
-                         static_cast<std::int64_t>(f)});
+    const auto owner = static_cast<std::int64_t>(f);
+    if (sampling == FaceSampling::random) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
+        samples.push_back({a * (1 - r1) + b * (r1 * (1 - r2)) + c * (r1 * r2), area[f] / double(n), owner});
+      }
+      continue;
+    }
+    // Stratified: split the face into k² congruent cells (k = √n rounded) and put one
+    // uniform point in each. In barycentric units of 1/k, cell (i, j) is the upright
+    // triangle S ∈ [i, i+1], T ∈ [j, j+1], S + T ≤ i + j + 1, or its inverted neighbour.
+    const std::size_t k = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(std::sqrt(double(n)))));
+    const double weight = area[f] / double(k * k), kk = double(k);
+    auto emit = [&](double S, double T) { samples.push_back({a * (1 - (S + T) / kk) + b * (S / kk) + c * (T / kk), weight, owner}); };
+    for (std::size_t i = 0; i < k; ++i) {
+      for (std::size_t j = 0; i + j < k; ++j) {
+        double u = rng.uniform(), v = rng.uniform();
+        if (u + v > 1) {  // fold the unit square onto the unit triangle
+          u = 1 - u;
+          v = 1 - v;
+        }
+        emit(double(i) + u, double(j) + v);
+        if (i + j + 1 < k) emit(double(i) + 1 - u, double(j) + 1 - v);
+      }
     }
   }
   return samples;
@@ -192,12 +214,16 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDist
   if (options.visibility_weighted && a.face_quality.size() != a.num_faces()) {
     throw InvalidMeshError("visibility-weighted distance needs V of every face of A as face quality");
   }
-  const std::size_t count = options.samples ? options.samples : 10 * std::max(a.num_faces(), b.num_faces());
+  std::size_t count = options.samples ? options.samples : 10 * std::max(a.num_faces(), b.num_faces());
+  if (options.density > 0) {
+    const MeshStats sa = analyze(a), sb = analyze(b);
+    count = static_cast<std::size_t>(std::ceil(options.density * std::max(sa.area, sb.area)));
+  }
   const std::size_t edges = options.edge_samples ? options.edge_samples : std::max(a.num_faces(), b.num_faces());
   SurfaceDistance r;
   auto t = std::chrono::steady_clock::now();
-  const std::vector<Sample> on_a = sample_surface(a, count, edges, options.seed);
-  const std::vector<Sample> on_b = sample_surface(b, count, edges, options.seed + 1);
+  const std::vector<Sample> on_a = sample_surface(a, count, edges, options.seed, options.sampling);
+  const std::vector<Sample> on_b = sample_surface(b, count, edges, options.seed + 1, options.sampling);
   r.seconds_sampling = seconds_since(t);
   const std::vector<double> from_a = distances(on_a, b, options.threads, r.seconds_index, r.seconds_queries);
   const std::vector<double> from_b = distances(on_b, a, options.threads, r.seconds_index, r.seconds_queries);
@@ -210,8 +236,14 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDist
   if (options.visibility_weighted) r.visible = summarize_visible(on_a, from_a, a.face_quality);
   if (options.vertex_errors) {
     r.vertex_error.assign(a.num_vertices(), 0.0f);
-    for (std::size_t i = 0; i < on_a.size() && on_a[i].owner < 0; ++i) {
-      r.vertex_error[static_cast<std::size_t>(-on_a[i].owner - 1)] = static_cast<float>(from_a[i]);
+    r.face_error.assign(a.num_faces(), 0.0f);
+    for (std::size_t i = 0; i < on_a.size(); ++i) {
+      if (on_a[i].owner < 0) {
+        r.vertex_error[static_cast<std::size_t>(-on_a[i].owner - 1)] = static_cast<float>(from_a[i]);
+      } else if (on_a[i].weight > 0) {
+        float& e = r.face_error[static_cast<std::size_t>(on_a[i].owner)];
+        e = std::max(e, static_cast<float>(from_a[i]));
+      }
     }
   }
   r.seconds = seconds_since(start);

@@ -3,10 +3,12 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "visimp/core/errors.h"
 #include "visimp/io/atomic_file.h"
+#include "visimp/render/renderer.h"
 
 namespace visimp {
 
@@ -34,6 +36,23 @@ RgbImage shade_frame(const Frame& frame, const RenderScene& scene, const std::ve
     }
   }
   return image;
+}
+
+RgbImage render_face_colors(const Mesh& mesh, const std::vector<Rgb>& face_colors, int size, const Vec3& direction) {
+  const RenderScene scene = RenderScene::from_mesh(mesh, false);
+  const auto renderer = make_raster_renderer({size, 1});
+  return shade_frame(render_view(*renderer, scene, direction), scene, face_colors);
+}
+
+Rgb heat_color(double t) {
+  t = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;
+  const Rgb stops[5] = {{40, 60, 220}, {0, 200, 220}, {40, 190, 60}, {240, 220, 0}, {220, 30, 20}};
+  const double x = t * 4;
+  const int i = std::min(3, static_cast<int>(x));
+  const double f = x - i;
+  Rgb c;
+  for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f));
+  return c;
 }
 
 namespace {

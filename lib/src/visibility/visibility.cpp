@@ -458,10 +458,7 @@ Rgb visibility_color(double v) {
 RgbImage render_visibility_map(const Mesh& mesh, const std::vector<float>& face_visibility, int size) {
   std::vector<Rgb> colors(mesh.num_faces());
   for (std::size_t f = 0; f < colors.size(); ++f) colors[f] = visibility_color(face_visibility[f]);
-  const RenderScene scene = RenderScene::from_mesh(mesh, false);
-  const auto renderer = make_raster_renderer({size, 1});
-  const Frame frame = render_view(*renderer, scene, Vec3{0.55, -0.7, 0.45});
-  return shade_frame(frame, scene, colors);
+  return render_face_colors(mesh, colors, size);
 }
 
 Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,

@@ -15,9 +15,17 @@
 
 namespace visimp {
 
+enum class FaceSampling {
+  random,      ///< independent area-uniform points (Monte Carlo)
+  stratified,  ///< one jittered point in each cell of a regular k×k split of every face
+};
+
 struct SurfaceDistanceOptions {
   /// Face samples per direction; 0 means 10 x the larger face count (Metro's default).
   std::size_t samples = 0;
+  /// Face samples per unit area (input units); when > 0 it replaces `samples`.
+  double density = 0;
+  FaceSampling sampling = FaceSampling::random;
   /// Seed of the sample positions; the same seed gives the same numbers.
   std::uint64_t seed = 1;
   /// Worker threads for the distance queries; 0 uses every core.
@@ -28,7 +36,7 @@ struct SurfaceDistanceOptions {
   std::size_t histogram_bins = 20;
   /// Weight A's samples by A's face quality (its visibility V) for the visible_* numbers.
   bool visibility_weighted = false;
-  /// Keep A's per-vertex distance to B (for an error map).
+  /// Keep A's per-vertex and per-face distances to B (for error maps).
   bool vertex_errors = false;
 };
 
@@ -59,6 +67,7 @@ struct SurfaceDistance {
   double diagonal = 0;    ///< bounding-box diagonal of A: divide by it for relative numbers
   VisibleDistance visible;           ///< when options.visibility_weighted
   std::vector<float> vertex_error;   ///< when options.vertex_errors: per vertex of A, input units
+  std::vector<float> face_error;     ///< when options.vertex_errors: per face of A, the largest of its samples
   double seconds = 0;
   double seconds_sampling = 0, seconds_index = 0, seconds_queries = 0;
 };
