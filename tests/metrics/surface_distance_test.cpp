@@ -10,6 +10,7 @@
 
 #include "test_meshes.h"
 #include "visimp/core/errors.h"
+#include "visimp/metrics/bounded_hausdorff.h"
 #include "visimp/io/mesh_io.h"
 
 namespace visimp {
@@ -158,6 +159,25 @@ TEST(SurfaceDistance, DensityGivesSamplesPerUnitArea) {
   EXPECT_NEAR(static_cast<double>(d.a_to_b.face_samples), 800.0, 40.0);
   EXPECT_EQ(d.face_error.size(), a.num_faces());
   EXPECT_EQ(d.vertex_error.size(), a.num_vertices());
+}
+
+TEST(BoundedHausdorff, BoundsContainTheAnalyticValue) {
+  // Parallel 4x4 grids 0.25 apart: the Hausdorff distance is exactly 0.25.
+  const Mesh a = test::grid(4);
+  Mesh b = a;
+  for (Vec3& p : b.positions) p.z += 0.25;
+  const HausdorffBounds h = bounded_hausdorff(a, b, 1e-3, surface_distance(a, b).hausdorff);
+  EXPECT_LE(h.lower, 0.25 + 1e-12);
+  EXPECT_GE(h.upper, 0.25 - 1e-12);
+  EXPECT_LE(h.upper - h.lower, 2e-3 + 1e-12);
+  // A sphere moved by t: the bounds contain the sampled value and are at most 2 tol wide.
+  const Mesh s = test::icosphere(3);
+  Mesh moved = s;
+  for (Vec3& p : moved.positions) p += Vec3{0.05, 0, 0};
+  const double sampled = surface_distance(s, moved).hausdorff;
+  const HausdorffBounds hs = bounded_hausdorff(s, moved, 1e-4, sampled);
+  EXPECT_GE(hs.upper, sampled);
+  EXPECT_LE(hs.upper, 0.05 + 1e-4 + 1e-9);  // nothing is farther than the translation
 }
 
 }  // namespace
