@@ -207,13 +207,7 @@ int run_visibility_merge(const Args& args) {
   } else {
     require_ply(out, stream);
     const Mesh mesh = read_input(mesh_path, stream);
-    VisibilityOptions options;
-    options.fractional = (merged.key.flags & 1) != 0;
-    options.depth_test = (merged.key.flags & 2) != 0;
-    options.refine = (merged.key.flags & 4) == 0;
-    options.worst_view_cosine = merged.key.worst_view_cosine;
-    options.depth_tolerance_pixels = merged.key.depth_tolerance_pixels;
-    const VisibilityJob job(mesh, static_cast<int>(merged.key.resolution), options);
+    const VisibilityJob job(mesh, static_cast<int>(merged.key.resolution), options_of(merged.key));
     if (job.mesh_hash() != merged.key.mesh_hash) {
       throw UsageError(mesh_path + ": not the mesh these tallies were computed for");
     }

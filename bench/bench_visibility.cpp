@@ -37,7 +37,7 @@ std::vector<double> floor_pass(const Mesh& input, const visimp::CameraSet& camer
   // The same faces the backends render: after refinement.
   const visimp::BoundingBox box = visimp::bounding_box(input);
   const auto refined = visimp::refine_long_edges(
-      input, visimp::refinement_edge_length(0.5 * box.diagonal() * 1.01, resolution, 0.25), 30000000);
+      input, visimp::refinement_edge_length(visimp::view_radius(box), resolution, 0.25), 30000000);
   const Mesh& mesh = refined ? refined->mesh : input;
   const visimp::RenderScene scene = visimp::RenderScene::from_mesh(mesh, false);
   const unsigned workers = visimp::worker_count(0, cameras.size());

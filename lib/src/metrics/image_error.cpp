@@ -53,7 +53,7 @@ ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& op
     box.extend(box_b.max);
   }
   const Vec3 center = box.center();
-  const double radius = box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0;
+  const double radius = view_radius(box);
   const CameraSet cameras = dodecahedron_cameras();
   IntensityRecorder image_a(a, cameras.size()), image_b(b, cameras.size());
   renderer->render(RenderScene::from_mesh(a, false, center, radius), cameras, 0, cameras.size(), image_a);

@@ -15,10 +15,11 @@
 
 namespace visimp {
 
+double view_radius(const BoundingBox& box) { return box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0; }
+
 RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces) {
   const BoundingBox box = bounding_box(mesh);
-  // 1% margin: no vertex projects onto the image border or to depth exactly 0 or 1.
-  return from_mesh(mesh, cull_back_faces, box.center(), box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0);
+  return from_mesh(mesh, cull_back_faces, box.center(), view_radius(box));
 }
 
 RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces, const Vec3& center, double radius) {

@@ -25,9 +25,6 @@
 namespace visimp {
 namespace {
 
-constexpr std::uint32_t kFlagFractional = 1;
-constexpr std::uint32_t kFlagDepthTest = 2;
-constexpr std::uint32_t kFlagNoRefine = 4;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -293,7 +290,7 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
 
   const bool cull = back_faces_always_hidden(mesh);
   const BoundingBox box = bounding_box(mesh);
-  const double radius = box.diagonal() > 0 ? 0.5 * box.diagonal() * 1.01 : 1.0;
+  const double radius = view_radius(box);
   stats_.max_edge_length = refinement_edge_length(radius, resolution, options.worst_view_cosine);
   if (options.refine) refined_ = refine_long_edges(mesh, stats_.max_edge_length, options.max_refined_faces);
   stats_.refinement_rounds = refined_ ? refined_->rounds : 0;
@@ -335,8 +332,8 @@ TallyKey VisibilityJob::key(const CameraSet& cameras) const {
   key.camera_count = cameras.size();
   key.faces = scene_.faces.size();
   key.resolution = static_cast<std::uint32_t>(resolution_);
-  key.flags = (options_.fractional ? kFlagFractional : 0) | (options_.depth_test ? kFlagDepthTest : 0) |
-              (options_.refine ? 0 : kFlagNoRefine);
+  key.flags = (options_.fractional ? TallyKey::kFractional : 0) | (options_.depth_test ? TallyKey::kDepthTest : 0) |
+              (options_.refine ? 0 : TallyKey::kNoRefine);
   key.worst_view_cosine = options_.worst_view_cosine;
   key.depth_tolerance_pixels = options_.depth_tolerance_pixels;
   return key;
@@ -440,6 +437,16 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   out.mesh = area_sum > 0 ? visible_sum / area_sum : 0.0;
   out.stats.seconds_aggregate = seconds_since(start);
   return out;
+}
+
+VisibilityOptions options_of(const TallyKey& key) {
+  VisibilityOptions options;
+  options.fractional = (key.flags & TallyKey::kFractional) != 0;
+  options.depth_test = (key.flags & TallyKey::kDepthTest) != 0;
+  options.refine = (key.flags & TallyKey::kNoRefine) == 0;
+  options.worst_view_cosine = key.worst_view_cosine;
+  options.depth_tolerance_pixels = key.depth_tolerance_pixels;
+  return options;
 }
 
 Rgb visibility_color(double v) {

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "visimp/core/bounding_box.h"
 #include "visimp/core/mesh.h"
 #include "visimp/core/vec3.h"
 
@@ -34,6 +35,10 @@ struct NormalCone {
     return axis[0] * d[0] + axis[1] * d[1] + axis[2] * d[2] < cutoff;
   }
 };
+
+/// Radius of the sphere every view covers: half the box diagonal plus 1%, so no vertex
+/// projects onto the image border or to depth exactly 0 or 1 (1 for an empty or point box).
+double view_radius(const BoundingBox& box);
 
 /// Geometry prepared for rendering: positions relative to the bounding-sphere centre, in
 /// float (relative coordinates keep float precise however far the mesh is from the origin).

@@ -20,6 +20,10 @@ namespace visimp {
 
 /// Everything that must match for two tallies to be added.
 struct TallyKey {
+  static constexpr std::uint32_t kFractional = 1;  ///< flags: F is fractional
+  static constexpr std::uint32_t kDepthTest = 2;   ///< flags: the depth-tolerance test was on
+  static constexpr std::uint32_t kNoRefine = 4;    ///< flags: long edges were not split
+
   std::uint64_t mesh_hash = 0;       ///< of the input mesh's positions and faces
   std::uint64_t camera_hash = 0;     ///< of the camera directions
   std::uint64_t camera_count = 0;    ///< cameras in the whole set

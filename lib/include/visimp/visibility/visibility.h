@@ -106,6 +106,9 @@ class VisibilityJob {
   const Mesh& rendered_mesh() const { return refined_ ? refined_->mesh : input_; }
 };
 
+/// The options a tally was computed with (to finish a merged tally).
+VisibilityOptions options_of(const TallyKey& key);
+
 /// One call: refine, render all cameras, finish.
 Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,
                               const VisibilityOptions& options = {}, RenderObserver* observer = nullptr);
