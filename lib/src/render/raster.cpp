@@ -114,67 +114,65 @@ class RasterRenderer final : public Renderer {
     float* depth = frame.depth.data();
     const Face& face = scene.faces[f];
     const SnappedVertex p0 = snapped[face[0]], p1 = snapped[face[1]], p2 = snapped[face[2]];
-    {
-      int x0 = std::max(first_centre(std::min({p0.x, p1.x, p2.x})), 0);
-      int x1 = std::min(last_centre(std::max({p0.x, p1.x, p2.x})), size - 1);
-      int y0 = std::max(first_centre(std::min({p0.y, p1.y, p2.y})), 0);
-      int y1 = std::min(last_centre(std::max({p0.y, p1.y, p2.y})), size - 1);
-      if (x0 > x1 || y0 > y1) return;
+    int x0 = std::max(first_centre(std::min({p0.x, p1.x, p2.x})), 0);
+    int x1 = std::min(last_centre(std::max({p0.x, p1.x, p2.x})), size - 1);
+    int y0 = std::max(first_centre(std::min({p0.y, p1.y, p2.y})), 0);
+    int y1 = std::min(last_centre(std::max({p0.y, p1.y, p2.y})), size - 1);
+    if (x0 > x1 || y0 > y1) return;
 
-      FixedPoint a{p0.x, p0.y}, b{p1.x, p1.y}, c{p2.x, p2.y};
-      const ScreenVertex* s0 = &v[face[0]];
-      const ScreenVertex* s1 = &v[face[1]];
-      const ScreenVertex* s2 = &v[face[2]];
-      std::int64_t area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-      if (area2 == 0) return;
-      if (area2 < 0) {
-        if (scene.cull_back_faces) return;
-        std::swap(b, c);
-        std::swap(s1, s2);
-        area2 = -area2;
-      }
+    FixedPoint a{p0.x, p0.y}, b{p1.x, p1.y}, c{p2.x, p2.y};
+    const ScreenVertex* s0 = &v[face[0]];
+    const ScreenVertex* s1 = &v[face[1]];
+    const ScreenVertex* s2 = &v[face[2]];
+    std::int64_t area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (area2 == 0) return;
+    if (area2 < 0) {
+      if (scene.cull_back_faces) return;
+      std::swap(b, c);
+      std::swap(s1, s2);
+      area2 = -area2;
+    }
 
-      // Edge function of edge p→q at pixel centre (x, y): (q - p) × (centre - p), >= 0 inside.
-      const FixedPoint origin{x0 * kSubpixel + kHalfPixel, y0 * kSubpixel + kHalfPixel};
-      auto edge_at_origin = [&](const FixedPoint& p, const FixedPoint& q) {
-        return (q.x - p.x) * (origin.y - p.y) - (q.y - p.y) * (origin.x - p.x) - fill_rule_bias(p, q);
-      };
-      std::int64_t row0 = edge_at_origin(b, c), row1 = edge_at_origin(c, a), row2 = edge_at_origin(a, b);
-      const std::int64_t step_x0 = -(c.y - b.y) * kSubpixel, step_y0 = (c.x - b.x) * kSubpixel;
-      const std::int64_t step_x1 = -(a.y - c.y) * kSubpixel, step_y1 = (a.x - c.x) * kSubpixel;
-      const std::int64_t step_x2 = -(b.y - a.y) * kSubpixel, step_y2 = (b.x - a.x) * kSubpixel;
+    // Edge function of edge p→q at pixel centre (x, y): (q - p) × (centre - p), >= 0 inside.
+    const FixedPoint origin{x0 * kSubpixel + kHalfPixel, y0 * kSubpixel + kHalfPixel};
+    auto edge_at_origin = [&](const FixedPoint& p, const FixedPoint& q) {
+      return (q.x - p.x) * (origin.y - p.y) - (q.y - p.y) * (origin.x - p.x) - fill_rule_bias(p, q);
+    };
+    std::int64_t row0 = edge_at_origin(b, c), row1 = edge_at_origin(c, a), row2 = edge_at_origin(a, b);
+    const std::int64_t step_x0 = -(c.y - b.y) * kSubpixel, step_y0 = (c.x - b.x) * kSubpixel;
+    const std::int64_t step_x1 = -(a.y - c.y) * kSubpixel, step_y1 = (a.x - c.x) * kSubpixel;
+    const std::int64_t step_x2 = -(b.y - a.y) * kSubpixel, step_y2 = (b.x - a.x) * kSubpixel;
 
-      // Depth plane through the three (unsnapped) vertices, evaluated at pixel centres.
-      const double inv_area = 1.0 / static_cast<double>(area2);
-      const double ex1 = static_cast<double>(b.x - a.x), ey1 = static_cast<double>(b.y - a.y);
-      const double ex2 = static_cast<double>(c.x - a.x), ey2 = static_cast<double>(c.y - a.y);
-      const double dz1 = static_cast<double>(s1->depth) - s0->depth, dz2 = static_cast<double>(s2->depth) - s0->depth;
-      const double dzdx = (dz1 * ey2 - dz2 * ey1) * inv_area * kSubpixel;
-      const double dzdy = (dz2 * ex1 - dz1 * ex2) * inv_area * kSubpixel;
-      const double z_origin = s0->depth + (dzdx * static_cast<double>(origin.x - a.x) +
-                                           dzdy * static_cast<double>(origin.y - a.y)) / kSubpixel;
-      const std::uint32_t id = static_cast<std::uint32_t>(f + 1);
+    // Depth plane through the three (unsnapped) vertices, evaluated at pixel centres.
+    const double inv_area = 1.0 / static_cast<double>(area2);
+    const double ex1 = static_cast<double>(b.x - a.x), ey1 = static_cast<double>(b.y - a.y);
+    const double ex2 = static_cast<double>(c.x - a.x), ey2 = static_cast<double>(c.y - a.y);
+    const double dz1 = static_cast<double>(s1->depth) - s0->depth, dz2 = static_cast<double>(s2->depth) - s0->depth;
+    const double dzdx = (dz1 * ey2 - dz2 * ey1) * inv_area * kSubpixel;
+    const double dzdy = (dz2 * ex1 - dz1 * ex2) * inv_area * kSubpixel;
+    const double z_origin = s0->depth + (dzdx * static_cast<double>(origin.x - a.x) +
+                                         dzdy * static_cast<double>(origin.y - a.y)) / kSubpixel;
+    const std::uint32_t id = static_cast<std::uint32_t>(f + 1);
 
-      for (int y = y0; y <= y1; ++y) {
-        std::int64_t w0 = row0, w1 = row1, w2 = row2;
-        const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(size);
-        for (int x = x0; x <= x1; ++x) {
-          if ((w0 | w1 | w2) >= 0) {
-            const float z = static_cast<float>(z_origin + dzdx * (x - x0) + dzdy * (y - y0));
-            const std::size_t p = row + static_cast<std::size_t>(x);
-            if (z < depth[p]) {
-              depth[p] = z;
-              ids[p] = id;
-            }
+    for (int y = y0; y <= y1; ++y) {
+      std::int64_t w0 = row0, w1 = row1, w2 = row2;
+      const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(size);
+      for (int x = x0; x <= x1; ++x) {
+        if ((w0 | w1 | w2) >= 0) {
+          const float z = static_cast<float>(z_origin + dzdx * (x - x0) + dzdy * (y - y0));
+          const std::size_t p = row + static_cast<std::size_t>(x);
+          if (z < depth[p]) {
+            depth[p] = z;
+            ids[p] = id;
           }
-          w0 += step_x0;
-          w1 += step_x1;
-          w2 += step_x2;
         }
-        row0 += step_y0;
-        row1 += step_y1;
-        row2 += step_y2;
+        w0 += step_x0;
+        w1 += step_x1;
+        w2 += step_x2;
       }
+      row0 += step_y0;
+      row1 += step_y1;
+      row2 += step_y2;
     }
   }
 

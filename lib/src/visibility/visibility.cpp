@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
