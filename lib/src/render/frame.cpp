@@ -2,15 +2,10 @@
 #include "visimp/render/frame.h"
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <exception>
-#include <mutex>
-#include <thread>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
+#include "visimp/core/parallel.h"
 #include "visimp/render/renderer.h"
 
 namespace visimp {
@@ -127,50 +122,11 @@ void check_render_options(const RenderOptions& options) {
   if (options.threads > 1024) throw UsageError("thread count " + std::to_string(options.threads) + " is above 1024");
 }
 
-unsigned worker_count(unsigned threads, std::size_t jobs) {
-  unsigned n = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
-  return static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(n, jobs)));
-}
-
 void for_each_camera(std::size_t first, std::size_t last, unsigned workers, RenderObserver* observer,
                      const std::function<void(unsigned worker, std::size_t camera)>& job) {
-  if (first >= last) return;
-  std::atomic<std::size_t> next{first};
-  std::atomic<std::size_t> done{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr error;
-  std::mutex mutex;
-  std::condition_variable finished;
-  auto work = [&](unsigned worker) {
-    try {
-      for (std::size_t camera; !failed && (camera = next++) < last;) {
-        job(worker, camera);
-        ++done;
-      }
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!error) error = std::current_exception();
-      failed = true;
-    }
-    std::lock_guard<std::mutex> lock(mutex);
-    finished.notify_all();
-  };
-  std::vector<std::thread> threads;
-  for (unsigned w = 1; w < workers; ++w) threads.emplace_back(work, w);
-  if (observer == nullptr) {
-    work(0);
-  } else {
-    // Worker 0 runs on its own thread too, so this thread is free to report progress.
-    threads.emplace_back(work, 0u);
-    const std::size_t total = last - first;
-    std::unique_lock<std::mutex> lock(mutex);
-    while (done < total && !failed) {
-      finished.wait_for(lock, std::chrono::milliseconds(100));
-      observer->on_render_progress(static_cast<double>(done) / static_cast<double>(total));
-    }
-  }
-  for (std::thread& t : threads) t.join();
-  if (error) std::rethrow_exception(error);
+  std::function<void(double)> progress;
+  if (observer != nullptr) progress = [observer](double done) { observer->on_render_progress(done); };
+  parallel_for(first, last, workers, job, progress);
 }
 
 }  // namespace visimp

@@ -1,7 +1,9 @@
 // Sampled distance between two surfaces (the core of Metro: Cignoni, Rocchini & Scopigno,
 // "Metro: measuring error on simplified surfaces", 1998). Samples are the vertices, points
-// along the edges and area-uniform random points on the faces (fixed seed); each point's
-// distance to the other surface is exact (CGAL AABB tree). Mean, RMS and the histogram are
+// along the edges and area-uniform random points on the faces (fixed seed, one generator per
+// face or edge); each point's distance to the other surface is exact (a bounding-volume
+// hierarchy queried with the previous sample's answer as a hint). Samples are drawn and
+// measured on the fly, in parallel; only their distances are kept. Mean, RMS and the histogram are
 // area-weighted over the face samples only (Metro averages vertex, edge and face samples
 // alike, which biases them toward dense regions); the maximum covers every sample.
 // Degenerate faces carry no samples and no area. Results are identical for any thread count.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "visimp/cameras/camera_set.h"
+#include "visimp/core/parallel.h"
 #include "visimp/render/frame.h"
 
 namespace visimp {
@@ -71,8 +72,5 @@ void render_frames(const RenderScene& scene, const CameraSet& cameras, std::size
                    const RenderOptions& options, FrameConsumer& consumer, RenderObserver* observer,
                    const std::function<void(unsigned workers)>& prepare,
                    const std::function<void(unsigned worker, Frame& frame)>& draw);
-
-/// Number of workers for `threads` (0 = hardware concurrency), never more than `jobs`.
-unsigned worker_count(unsigned threads, std::size_t jobs);
 
 }  // namespace visimp

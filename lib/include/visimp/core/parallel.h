@@ -1,0 +1,20 @@
+// The one worker pool: items taken in turn by a fixed number of threads (dynamic balance),
+// the first exception stops the others and is rethrown on the caller. Results must not depend
+// on which worker ran an item — callers write per-item outputs and reduce them in item order.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+namespace visimp {
+
+/// Number of workers for `threads` (0 = hardware concurrency), never more than `jobs`.
+unsigned worker_count(unsigned threads, std::size_t jobs);
+
+/// Runs `job(worker, item)` for items [first, last) on `workers` threads. When `progress` is
+/// set, the calling thread reports the finished share (0..1) to it about ten times a second.
+void parallel_for(std::size_t first, std::size_t last, unsigned workers,
+                  const std::function<void(unsigned worker, std::size_t item)>& job,
+                  const std::function<void(double done)>& progress = {});
+
+}  // namespace visimp

@@ -1,0 +1,268 @@
+#include "closest_triangle_index.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/mesh_stats.h"
+
+namespace visimp {
+namespace {
+
+constexpr std::uint32_t kLeafSize = 4;
+
+// A float at most x (at least x when up): one step beyond the nearest float, so that the
+// double rounding of (point − centre) on either side can never cross the box.
+float round_out(double x, bool up) {
+  const float inf = std::numeric_limits<float>::infinity();
+  float f = static_cast<float>(x);
+  if (up ? double(f) < x : double(f) > x) f = std::nextafter(f, up ? inf : -inf);
+  return std::nextafter(f, up ? inf : -inf);
+}
+
+double axis_gap(double p, float lo, float hi) {
+  const double below = double(lo) - p, above = p - double(hi);
+  return below > 0 ? below : (above > 0 ? above : 0.0);
+}
+
+}  // namespace
+
+double point_triangle_squared_distance(const Vec3& p, const Vec3& a, const Vec3& ab, const Vec3& ac) {
+  const Vec3 ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return squared_norm(ap);  // vertex a
+  const Vec3 bp = ap - ab;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return squared_norm(bp);  // vertex b
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return squared_norm(ap - ab * (d1 / (d1 - d3)));  // edge ab
+  const Vec3 cp = ap - ac;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return squared_norm(cp);  // vertex c
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return squared_norm(ap - ac * (d2 / (d2 - d6)));  // edge ac
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {  // edge bc
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return squared_norm(bp - (ac - ab) * w);
+  }
+  // Interior: the distance to the plane, which unlike the barycentric point does not cancel.
+  const Vec3 n = cross(ab, ac);
+  const double h = dot(ap, n);
+  return h * h / squared_norm(n);
+}
+
+ClosestTriangleIndex::ClosestTriangleIndex(const Mesh& mesh) {
+  std::vector<std::uint32_t> order;
+  std::vector<Vec3> centroid(mesh.num_faces());
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const Face& t = mesh.faces[f];
+    if (is_degenerate(mesh, t)) continue;
+    order.push_back(static_cast<std::uint32_t>(f));
+    centroid[f] = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+  }
+  if (order.empty()) return;
+  const BoundingBox box = bounding_box(mesh);
+  centre_ = (box.min + box.max) * 0.5;
+  triangles_.reserve(order.size());
+  nodes_.reserve(order.size() / 2 + 1);
+  root_ = build(order, centroid, 0, static_cast<std::uint32_t>(order.size()), mesh, root_box_, root_leaf_size_);
+}
+
+std::uint32_t ClosestTriangleIndex::build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid,
+                                          std::uint32_t begin, std::uint32_t end, const Mesh& mesh, Box& box,
+                                          std::uint8_t& leaf_size) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi = -lo, clo = lo, chi = hi;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    for (VertexIndex v : mesh.faces[order[i]])
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], mesh.positions[v][k]);
+        hi[k] = std::max(hi[k], mesh.positions[v][k]);
+      }
+    for (int k = 0; k < 3; ++k) {
+      clo[k] = std::min(clo[k], centroid[order[i]][k]);
+      chi[k] = std::max(chi[k], centroid[order[i]][k]);
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    box.lo[k] = round_out(lo[k] - centre_[k], false);
+    box.hi[k] = round_out(hi[k] - centre_[k], true);
+  }
+  if (end - begin <= kLeafSize) {
+    const auto first = static_cast<std::uint32_t>(triangles_.size());
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const Face& t = mesh.faces[order[i]];
+      const Vec3& a = mesh.positions[t[0]];
+      triangles_.push_back({a, mesh.positions[t[1]] - a, mesh.positions[t[2]] - a});
+    }
+    leaf_size = static_cast<std::uint8_t>(end - begin);
+    return kLeaf | first;
+  }
+  const Vec3 extent = chi - clo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  // Ties broken by face index so the tree does not depend on the standard library's nth_element.
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, [&](std::uint32_t x, std::uint32_t y) {
+    const double cx = centroid[x][axis], cy = centroid[y][axis];
+    return cx < cy || (cx == cy && x < y);
+  });
+  const auto index = static_cast<std::uint32_t>(nodes_.size());
+  nodes_.emplace_back();
+  Node node{};
+  node.child[0] = build(order, centroid, begin, mid, mesh, node.box[0], node.leaf_size[0]);
+  node.child[1] = build(order, centroid, mid, end, mesh, node.box[1], node.leaf_size[1]);
+  nodes_[index] = node;
+  leaf_size = 0;
+  return index;
+}
+
+double ClosestTriangleIndex::squared_distance(const Vec3& p, std::uint32_t& hint) const {
+  double best = std::numeric_limits<double>::infinity();
+  if (hint < triangles_.size()) {
+    const Triangle& t = triangles_[hint];
+    best = point_triangle_squared_distance(p, t.a, t.ab, t.ac);
+  }
+  const Vec3 q = p - centre_;
+  auto box_distance = [&q](const Box& b) {
+    const double dx = axis_gap(q.x, b.lo[0], b.hi[0]), dy = axis_gap(q.y, b.lo[1], b.hi[1]),
+                 dz = axis_gap(q.z, b.lo[2], b.hi[2]);
+    return dx * dx + dy * dy + dz * dz;
+  };
+  auto test_leaf = [&](std::uint32_t ref, std::uint8_t count) {
+    const std::uint32_t first = ref & ~kLeaf;
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      const Triangle& t = triangles_[i];
+      const double d2 = point_triangle_squared_distance(p, t.a, t.ab, t.ac);
+      if (d2 < best) {
+        best = d2;
+        hint = i;
+      }
+    }
+  };
+  struct Entry {
+    std::uint32_t ref;
+    std::uint8_t leaf_size;
+    double d2;
+  };
+  Entry stack[64];  // depth ≤ log2(faces) + 1 with median splits
+  int top = 0;
+  stack[top++] = {root_, root_leaf_size_, box_distance(root_box_)};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.d2 >= best) continue;
+    if (e.ref & kLeaf) {
+      test_leaf(e.ref, e.leaf_size);
+      continue;
+    }
+    const Node& n = nodes_[e.ref];
+    const double d0 = box_distance(n.box[0]), d1 = box_distance(n.box[1]);
+    const int near = d1 < d0 ? 1 : 0, far = 1 - near;
+    // The nearer child goes on top, so it is searched first and tightens `best`.
+    if ((near ? d0 : d1) < best) stack[top++] = {n.child[far], n.leaf_size[far], near ? d0 : d1};
+    if ((near ? d1 : d0) < best) stack[top++] = {n.child[near], n.leaf_size[near], near ? d1 : d0};
+  }
+  return best;
+}
+
+void ClosestTriangleIndex::squared_distances(const Vec3* points, std::size_t n, double* squared,
+                                             std::uint32_t& hint) const {
+  // Measured on a 235k-vs-2.35k dragon pair: 16-point groups make the fine-to-coarse
+  // direction 2.4x faster; past 64 candidates one query per point is cheaper.
+  constexpr std::size_t kGroup = 16, kMaxCandidates = 64;
+  struct Candidate {
+    Vec3 lo, hi;  // the triangle's box, absolute
+    std::uint32_t index;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<std::uint32_t> stack;
+  for (std::size_t g = 0; g < n; g += kGroup) {
+    const std::size_t end = std::min(n, g + kGroup);
+    squared[g] = squared_distance(points[g], hint);
+    if (end - g == 1) continue;
+    const Triangle& nearest = triangles_[hint];
+    const std::uint32_t first_answer = hint;
+    double bound = squared[g];
+    Vec3 lo = points[g], hi = points[g];
+    for (std::size_t i = g + 1; i < end; ++i) {
+      squared[i] = point_triangle_squared_distance(points[i], nearest.a, nearest.ab, nearest.ac);
+      bound = std::max(bound, squared[i]);
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], points[i][k]);
+        hi[k] = std::max(hi[k], points[i][k]);
+      }
+    }
+    if (bound == 0) continue;
+    // Every point's nearest triangle is within `bound` of it, hence within it of the box.
+    auto box_gap2 = [&](const Vec3& blo, const Vec3& bhi) {
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = std::max({blo[k] - hi[k], lo[k] - bhi[k], 0.0});
+        d2 += d * d;
+      }
+      return d2;
+    };
+    const Vec3 qlo = lo - centre_, qhi = hi - centre_;
+    auto node_gap2 = [&](const Box& b) {
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = std::max({double(b.lo[k]) - qhi[k], qlo[k] - double(b.hi[k]), 0.0});
+        d2 += d * d;
+      }
+      return d2;
+    };
+    candidates.clear();
+    auto collect_leaf = [&](std::uint32_t ref, std::uint8_t count) {
+      const std::uint32_t first = ref & ~kLeaf;
+      for (std::uint32_t t = first; t < first + count; ++t) {
+        if (t == first_answer) continue;
+        const Triangle& tri = triangles_[t];
+        const Vec3 b = tri.a + tri.ab, c = tri.a + tri.ac;
+        Candidate cand{tri.a, tri.a, t};
+        for (int k = 0; k < 3; ++k) {
+          cand.lo[k] = std::min({tri.a[k], b[k], c[k]});
+          cand.hi[k] = std::max({tri.a[k], b[k], c[k]});
+        }
+        if (box_gap2(cand.lo, cand.hi) <= bound) candidates.push_back(cand);
+      }
+    };
+    if (root_ & kLeaf) {
+      collect_leaf(root_, root_leaf_size_);
+    } else {
+      stack.assign(1, root_);
+      while (!stack.empty()) {
+        const Node& node = nodes_[stack.back()];
+        stack.pop_back();
+        for (int c = 0; c < 2; ++c) {
+          if (node_gap2(node.box[c]) > bound) continue;
+          if (node.child[c] & kLeaf) collect_leaf(node.child[c], node.leaf_size[c]);
+          else stack.push_back(node.child[c]);
+        }
+      }
+    }
+    if (candidates.size() > kMaxCandidates) {  // the surfaces are far apart for their detail: query each
+      for (std::size_t i = g + 1; i < end; ++i) squared[i] = squared_distance(points[i], hint);
+      continue;
+    }
+    for (std::size_t i = g + 1; i < end; ++i) {
+      const Vec3& p = points[i];
+      for (const Candidate& cand : candidates) {
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double d = std::max({cand.lo[k] - p[k], p[k] - cand.hi[k], 0.0});
+          d2 += d * d;
+        }
+        if (d2 >= squared[i]) continue;
+        const Triangle& t = triangles_[cand.index];
+        const double exact = point_triangle_squared_distance(p, t.a, t.ab, t.ac);
+        if (exact < squared[i]) {
+          squared[i] = exact;
+          hint = cand.index;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace visimp
