@@ -37,6 +37,12 @@ Quadric& Quadric::operator+=(const Quadric& o) {
   return *this;
 }
 
+Quadric& Quadric::operator*=(double s) {
+  a00 *= s; a01 *= s; a02 *= s; a11 *= s; a12 *= s; a22 *= s;
+  b0 *= s; b1 *= s; b2 *= s; c *= s; area *= s;
+  return *this;
+}
+
 double Quadric::evaluate(const Vec3& p) const {
   const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
   const double ay = a01 * p.x + a11 * p.y + a12 * p.z;

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
@@ -116,24 +117,35 @@ class CollapseEngine {
     origin_.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) origin_[v] = static_cast<std::int64_t>(v);
     quadrics_.assign(nv, Quadric{});
+    if (options.method == SimplifyMethod::vg) {
+      face_weight_.resize(faces_.size());
+      for (std::size_t f = 0; f < faces_.size(); ++f) {
+        const double v = options.face_visibility[f];
+        face_weight_[f] = v * v;
+      }
+      cost_quadrics_.assign(nv, Quadric{});
+    }
     build_vertex_faces();
     classify_vertices(options);
     add_face_quadrics();
     push_initial_edges();
   }
 
-  void run(std::size_t target, double max_error, SimplifyObserver* observer, SimplifyResult& result) {
-    const std::size_t planned = faces_alive_ > target ? faces_alive_ - target : 0;
-    const std::size_t report_every = std::max<std::size_t>(1, planned / 100);
-    std::size_t next_report = faces_alive_ - std::min(faces_alive_, report_every);
-    bool error_limited = false;
-    std::vector<HeapEntry> deferred;  // would overshoot the target by one face; tried last
-    while (!heap_.empty() && faces_alive_ > target) {
-      const HeapEntry entry = heap_.pop();
+  // Collapses in queue order while more than `target` faces remain. A legal collapse that
+  // would end one face below the target is deferred (a closed mesh cannot hit an odd target;
+  // a boundary collapse elsewhere may still hit it exactly). With stop_at_deferral the loop
+  // returns at the first deferral (simplify_levels finishes that level on a copy); otherwise
+  // it runs on and then tries the deferred entries. `first`, when set, is taken before the
+  // queue: the entry a previous level stopped at.
+  void run(std::size_t target, double max_error, SimplifyResult& result, std::vector<HeapEntry>& deferred,
+           bool stop_at_deferral, const HeapEntry* first = nullptr) {
+    while ((first != nullptr || !heap_.empty()) && faces_alive_ > target) {
+      const HeapEntry entry = first != nullptr ? *first : heap_.pop();
+      first = nullptr;
       CollapseProfile profile;
       if (!prepare(entry, profile)) continue;
       if (profile.error > max_error) {
-        error_limited = true;
+        error_limited_ = true;
         continue;
       }
       if (!legal(profile)) {
@@ -144,25 +156,30 @@ class CollapseEngine {
       }
       if (faces_alive_ - static_cast<std::size_t>(profile.num_removed) < target) {
         deferred.push_back(entry);
+        if (stop_at_deferral) return;
         continue;
       }
       collapse(profile, result);
-      if (observer && faces_alive_ <= next_report) {
-        observer->on_progress(planned ? double(input_.num_faces() - faces_alive_) / double(planned) : 1.0);
-        next_report = faces_alive_ > report_every ? faces_alive_ - report_every : 0;
-      }
+      report_progress();
       maybe_compact_heap();
     }
-    // Only two-face collapses were left with one face to go: a closed mesh cannot hit an odd
-    // target, so end one face below it rather than one above.
+    if (stop_at_deferral) return;
     for (const HeapEntry& entry : deferred) {
       if (faces_alive_ <= target) break;
       CollapseProfile profile;
       if (prepare(entry, profile) && profile.error <= max_error && legal(profile)) collapse(profile, result);
     }
     if (faces_alive_ <= target) result.stop_reason = result.collapses ? StopReason::target_reached : StopReason::nothing_to_do;
-    else result.stop_reason = error_limited ? StopReason::error_limit : StopReason::no_legal_collapse;
-    if (observer) observer->on_progress(1.0);
+    else result.stop_reason = error_limited_ ? StopReason::error_limit : StopReason::no_legal_collapse;
+  }
+
+  std::size_t faces_alive() const { return faces_alive_; }
+
+  void set_observer(SimplifyObserver* observer, std::size_t final_target) {
+    observer_ = observer;
+    planned_ = faces_alive_ > final_target ? faces_alive_ - final_target : 0;
+    report_every_ = std::max<std::size_t>(1, planned_ / 100);
+    next_report_ = faces_alive_ - std::min(faces_alive_, report_every_);
   }
 
   Mesh extract() const {
@@ -259,19 +276,36 @@ class CollapseEngine {
     q.area = 0;  // constraint planes carry no surface area
     quadrics_[a] += q;
     quadrics_[b] += q;
+    if (!cost_quadrics_.empty()) {  // a boundary weighs what its face weighs
+      q *= face_weight_[face];
+      cost_quadrics_[a] += q;
+      cost_quadrics_[b] += q;
+    }
   }
 
   bool is_degenerate_in_unit_frame(const Face& f) const {
     return is_degenerate_triangle(positions_[f[0]], positions_[f[1]], positions_[f[2]]);
   }
 
+  // Each face's plane quadric goes to its three vertices; under VG also V(t)² times it to
+  // the cost quadrics. Collapses add quadrics, so a vertex always carries the weighted planes
+  // of every input face merged into it: weights follow the input faces, never the current ones.
   void add_face_quadrics() {
-    for (const Face& f : faces_) {
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      const Face& f = faces_[i];
       if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
       const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
       const double len = norm(n);
       const Quadric q = Quadric::plane(n / len, positions_[f[0]], 0.5 * len);
-      for (VertexIndex v : f) quadrics_[v] += q;
+      add_quadric(i, f, q);
+    }
+  }
+
+  void add_quadric(std::size_t face, const Face& f, const Quadric& q) {
+    for (VertexIndex v : f) quadrics_[v] += q;
+    if (!cost_quadrics_.empty()) {
+      const Quadric weighted = q * face_weight_[face];
+      for (VertexIndex v : f) cost_quadrics_[v] += weighted;
     }
   }
 
@@ -305,12 +339,14 @@ class CollapseEngine {
     }
   }
 
-  // Error of collapsing (v0, v1): RMS distance of the placement to the merged planes.
+  // Collapsing (v0, v1): placed with the plain quadric; error = RMS distance of the placement
+  // to the merged planes; cost (the queue key) = Q(x) under QB, Q_v(x) under VG (eq. 5.9).
   void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
     const Quadric q = quadrics_[v0] + quadrics_[v1];
     p.placement = place(q, positions_[v0], positions_[v1]);
-    p.cost = q.evaluate(p.placement.position);
-    p.error = std::sqrt(p.cost / std::max(q.area, 1e-300));
+    const double plain = q.evaluate(p.placement.position);
+    p.cost = cost_quadrics_.empty() ? plain : (cost_quadrics_[v0] + cost_quadrics_[v1]).evaluate(p.placement.position);
+    p.error = std::sqrt(plain / std::max(q.area, 1e-300));
   }
 
   void push_edge(VertexIndex a, VertexIndex b) {
@@ -424,6 +460,7 @@ class CollapseEngine {
     if (p.placement.kind == PlacementKind::endpoint1) origin_[v0] = origin_[v1];
     else if (p.placement.kind != PlacementKind::endpoint0) origin_[v0] = -1;
     quadrics_[v0] += quadrics_[v1];
+    if (!cost_quadrics_.empty()) cost_quadrics_[v0] += cost_quadrics_[v1];
     flags_[v0] = static_cast<std::uint8_t>(flags_[v0] | (flags_[v1] & kBoundary));
     flags_[v1] = 0;
     ++clock_;
@@ -446,6 +483,12 @@ class CollapseEngine {
     }
   }
 
+  void report_progress() {
+    if (observer_ == nullptr || faces_alive_ > next_report_) return;
+    observer_->on_progress(planned_ ? std::min(1.0, double(input_.num_faces() - faces_alive_) / double(planned_)) : 1.0);
+    next_report_ = faces_alive_ > report_every_ ? faces_alive_ - report_every_ : 0;
+  }
+
   // Drops stale entries once they outnumber live edges, bounding the heap's memory.
   void maybe_compact_heap() {
     const std::size_t live_edges = faces_alive_ * 3 / 2 + 1024;
@@ -462,7 +505,9 @@ class CollapseEngine {
   std::size_t faces_alive_ = 0;
   std::size_t dropped_repeated_index_faces_ = 0;
   std::vector<std::vector<std::uint32_t>> vertex_faces_;
-  std::vector<Quadric> quadrics_;
+  std::vector<Quadric> quadrics_;                    // plain: place the vertex, give the error
+  std::vector<Quadric> cost_quadrics_;               // VG only: Σ V(t)² K_t, orders the queue
+  std::vector<double> face_weight_;                  // VG only: V(t)² per input face
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> modified_;              // clock of the vertex's last change
   std::vector<std::int64_t> origin_;                 // input vertex whose exact position v holds, or -1
@@ -471,6 +516,9 @@ class CollapseEngine {
   std::uint32_t clock_ = 0;
   detail::RadixHeap<HeapEntry> heap_;
   std::vector<VertexIndex> ring_, second_ring_;
+  bool error_limited_ = false;
+  SimplifyObserver* observer_ = nullptr;
+  std::size_t planned_ = 0, report_every_ = 1, next_report_ = 0;
 };
 
 }  // namespace
@@ -488,33 +536,132 @@ void check_options(const SimplifyOptions& options) {
     throw UsageError("give a target (--target or --ratio) or an error limit (--max-error)");
 }
 
+namespace {
+
+void check_visibility(const Mesh& input, const SimplifyOptions& options) {
+  if (options.method != SimplifyMethod::vg) return;
+  if (options.face_visibility.size() != input.num_faces()) {
+    throw UsageError("VG simplification needs V of every face: got " + std::to_string(options.face_visibility.size()) +
+                     " values for " + std::to_string(input.num_faces()) + " faces");
+  }
+  for (std::size_t f = 0; f < input.num_faces(); ++f) {
+    const float v = options.face_visibility[f];
+    if (!(v >= 0.0f && v <= 1.0f)) {
+      throw UsageError("visibility of face " + std::to_string(f) + " is " + std::to_string(v) + ", not in [0, 1]");
+    }
+  }
+}
+
+std::size_t resolve_target(const Mesh& input, const SimplifyOptions& options) {
+  return options.target_faces > 0
+             ? options.target_faces
+             : static_cast<std::size_t>(std::llround(options.target_ratio * double(input.num_faces())));
+}
+
+SimplifyResult start_result(const Mesh& input) {
+  SimplifyResult result;
+  result.faces_in = input.num_faces();
+  result.vertices_in = input.num_vertices();
+  return result;
+}
+
+void finish_result(Simplified& out, std::chrono::steady_clock::time_point start) {
+  if (out.result.collapses == 0 && out.result.faces_in <= out.result.target_faces)
+    out.result.stop_reason = StopReason::nothing_to_do;
+  out.result.faces_out = out.mesh.num_faces();
+  out.result.vertices_out = out.mesh.num_vertices();
+  out.result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
 Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer) {
   const auto start = std::chrono::steady_clock::now();
   check_options(options);
   require_valid(input, "simplify input");
-
-  SimplifyResult result;
-  result.faces_in = input.num_faces();
-  result.vertices_in = input.num_vertices();
-  result.target_faces = options.target_faces > 0
-                            ? options.target_faces
-                            : static_cast<std::size_t>(std::llround(options.target_ratio * double(input.num_faces())));
+  check_visibility(input, options);
 
   Simplified out;
-  if (result.faces_in <= result.target_faces) {
+  out.result = start_result(input);
+  out.result.target_faces = resolve_target(input, options);
+  if (out.result.faces_in <= out.result.target_faces) {
     out.mesh = input;
   } else {
     CollapseEngine engine(input, options);
-    result.locked_vertices = engine.locked_vertices();
-    result.dropped_faces = engine.dropped_repeated_index_faces();
-    engine.run(result.target_faces, options.max_error, observer, result);
+    out.result.locked_vertices = engine.locked_vertices();
+    out.result.dropped_faces = engine.dropped_repeated_index_faces();
+    engine.set_observer(observer, out.result.target_faces);
+    std::vector<HeapEntry> deferred;
+    engine.run(out.result.target_faces, options.max_error, out.result, deferred, false);
+    if (observer) observer->on_progress(1.0);
     out.mesh = engine.extract();
   }
-  if (result.collapses == 0 && result.faces_in <= result.target_faces) result.stop_reason = StopReason::nothing_to_do;
-  result.faces_out = out.mesh.num_faces();
-  result.vertices_out = out.mesh.num_vertices();
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  out.result = result;
+  finish_result(out, start);
+  return out;
+}
+
+std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions& options,
+                                        const std::vector<std::size_t>& targets, SimplifyObserver* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  if (targets.empty()) throw UsageError("no target face counts given");
+  for (std::size_t t : targets)
+    if (t == 0) throw UsageError("target face counts must be > 0");
+  SimplifyOptions checked = options;
+  checked.target_faces = *std::min_element(targets.begin(), targets.end());
+  check_options(checked);
+  require_valid(input, "simplify input");
+  check_visibility(input, options);
+
+  // Largest target first; equal targets share one snapshot.
+  std::vector<std::size_t> order(targets.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return targets[x] > targets[y]; });
+
+  std::vector<Simplified> out(targets.size());
+  CollapseEngine engine(input, options);
+  engine.set_observer(observer, checked.target_faces);
+  SimplifyResult running = start_result(input);
+  running.locked_vertices = engine.locked_vertices();
+  running.dropped_faces = engine.dropped_repeated_index_faces();
+  std::vector<HeapEntry> deferred;
+  std::optional<HeapEntry> pending;  // where the previous level stopped, taken first by the next
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::size_t target = targets[order[k]];
+    Simplified& level = out[order[k]];
+    if (k > 0 && target == targets[order[k - 1]]) {
+      level = out[order[k - 1]];
+      continue;
+    }
+    running.target_faces = target;
+    if (input.num_faces() <= target) {
+      level.mesh = input;
+      level.result = running;
+      finish_result(level, start);
+      continue;
+    }
+    deferred.clear();
+    const HeapEntry* first = pending ? &*pending : nullptr;
+    engine.run(target, options.max_error, running, deferred, true, first);
+    pending.reset();
+    if (deferred.empty()) {  // reached (or stuck): exactly where simplify() to this target ends
+      SimplifyResult result = running;
+      std::vector<HeapEntry> none;
+      engine.run(target, options.max_error, result, none, false);  // only sets the stop reason
+      level.mesh = engine.extract();
+      level.result = result;
+    } else {
+      // simplify() to this target would now keep looking for a collapse that hits it exactly
+      // and consume the queue doing so: do that on a copy, and go on from here with the entry.
+      CollapseEngine finisher = engine;
+      finisher.set_observer(nullptr, target);
+      level.result = running;
+      finisher.run(target, options.max_error, level.result, deferred, false);
+      level.mesh = finisher.extract();
+      pending = deferred.front();
+    }
+    finish_result(level, start);
+  }
+  if (observer) observer->on_progress(1.0);
   return out;
 }
 

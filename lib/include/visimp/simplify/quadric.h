@@ -24,6 +24,9 @@ struct Quadric {
 
   Quadric& operator+=(const Quadric& o);
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
+  /// Scales every term (and the area): the VG weights V(t)².
+  Quadric& operator*=(double s);
+  friend Quadric operator*(Quadric a, double s) { return a *= s; }
 
   /// Q(p), clamped at 0 (rounding can make it slightly negative).
   double evaluate(const Vec3& p) const;

@@ -1,7 +1,11 @@
 // Edge-collapse simplification with quadric error metrics (Garland & Heckbert 1997), the
 // engine behind both of visimp's methods:
 //   QB — plain quadrics order the queue and place the new vertex;
-//   VG — (issue 5) visibility-weighted quadrics order the queue, plain ones place the vertex.
+//   VG — visibility-weighted quadrics Q_v = Σ V(t)² K_t order the queue (Zhang & Turk 2002
+//        eq. 5.8–5.10), the plain ones still place the vertex and give the error. Each
+//        input face's V is fixed; a vertex's Q_v is the sum over the input faces merged into
+//        it, exactly like Q, so weights follow the input faces through every collapse.
+//        With V ≡ 1 VG is QB bit for bit.
 //
 // Roles, each a small piece of simplify.cpp:
 //   cost term      area-weighted plane quadrics of the faces (+ boundary constraint planes)
@@ -21,6 +25,11 @@
 
 namespace visimp {
 
+enum class SimplifyMethod {
+  qb,  ///< plain quadrics (Garland & Heckbert)
+  vg,  ///< visibility-guided (Zhang & Turk): needs face_visibility
+};
+
 struct SimplifyOptions {
   /// Stop once the mesh has at most this many faces (0: use target_ratio, or only max_error).
   std::size_t target_faces = 0;
@@ -38,6 +47,9 @@ struct SimplifyOptions {
   /// Reject a collapse that would turn any remaining face's normal by more than this angle,
   /// in degrees (0, 180]. 180 only rejects exactly flipped faces.
   double max_normal_change_deg = 80.0;
+  SimplifyMethod method = SimplifyMethod::qb;
+  /// VG: V(t) in [0, 1] of every input face (visibility.h computes it). Unused by QB.
+  std::vector<float> face_visibility;
 };
 
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
@@ -86,5 +98,13 @@ struct Simplified {
 /// input order and quality values. Throws UsageError for out-of-range options and
 /// InvalidMeshError for an invalid mesh (see validate.h).
 Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer = nullptr);
+
+/// Many levels in one collapse run: the mesh at each face count in `targets` (any order;
+/// results in the same order). Each level equals simplify() with that target_faces, bit for
+/// bit (a level ending one face below its target is finished on a copy of the engine, so the
+/// run goes on as a single run to the next target would). options.target_* are ignored; each
+/// result's seconds are from the start of the run to that level.
+std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions& options,
+                                        const std::vector<std::size_t>& targets, SimplifyObserver* observer = nullptr);
 
 }  // namespace visimp

@@ -1,0 +1,115 @@
+// VG weighting and many-levels runs of the collapse engine (simplify.h).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "test_meshes.h"
+#include "visimp/core/errors.h"
+#include "visimp/io/mesh_io.h"
+#include "visimp/simplify/simplify.h"
+
+namespace visimp {
+namespace {
+
+SimplifyOptions vg_options(std::vector<float> visibility) {
+  SimplifyOptions o;
+  o.method = SimplifyMethod::vg;
+  o.face_visibility = std::move(visibility);
+  return o;
+}
+
+void expect_identical(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.num_faces(), b.num_faces());
+  ASSERT_EQ(a.num_vertices(), b.num_vertices());
+  EXPECT_TRUE(a.faces == b.faces);
+  EXPECT_TRUE(a.positions == b.positions);  // Vec3 == is exact: bit for bit
+}
+
+TEST(VisibilityGuided, WithVisibilityOneEverywhereItIsQbBitForBit) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  SimplifyOptions qb;
+  qb.target_faces = 500;
+  SimplifyOptions vg = vg_options(std::vector<float>(bunny.num_faces(), 1.0f));
+  vg.target_faces = 500;
+  expect_identical(simplify(bunny, qb).mesh, simplify(bunny, vg).mesh);
+}
+
+// Two spheres side by side, the right one "hidden" (V = 0): VG spends the collapses there
+// while QB splits them by geometry.
+TEST(VisibilityGuided, HiddenFacesAreCollapsedFirst) {
+  const Mesh sphere = test::icosphere(3);
+  Mesh pair = sphere;
+  for (const Vec3& p : sphere.positions) pair.positions.push_back(p + Vec3{3, 0, 0});
+  const auto offset = static_cast<VertexIndex>(sphere.num_vertices());
+  for (const Face& f : sphere.faces) pair.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  std::vector<float> visibility(pair.num_faces(), 1.0f);
+  std::fill(visibility.begin() + static_cast<std::ptrdiff_t>(sphere.num_faces()), visibility.end(), 0.0f);
+
+  auto faces_left = [](const Mesh& m) {
+    return std::count_if(m.faces.begin(), m.faces.end(), [&](const Face& f) { return m.positions[f[0]].x < 1.5; });
+  };
+  SimplifyOptions qb;
+  qb.target_faces = pair.num_faces() * 6 / 10;  // the hidden sphere alone can give that many
+  SimplifyOptions vg = vg_options(visibility);
+  vg.target_faces = qb.target_faces;
+  const Mesh by_qb = simplify(pair, qb).mesh, by_vg = simplify(pair, vg).mesh;
+  EXPECT_EQ(faces_left(by_vg), static_cast<std::ptrdiff_t>(sphere.num_faces()));  // the seen sphere untouched
+  EXPECT_LT(faces_left(by_qb), static_cast<std::ptrdiff_t>(sphere.num_faces()) * 3 / 4);
+  // Input V travels with the faces that survive.
+  Mesh with_quality = pair;
+  with_quality.face_quality = visibility;
+  const Mesh kept = simplify(with_quality, vg).mesh;
+  for (std::size_t f = 0; f < kept.num_faces(); ++f)
+    EXPECT_EQ(kept.face_quality[f], kept.positions[kept.faces[f][0]].x < 1.5 ? 1.0f : 0.0f);
+}
+
+TEST(VisibilityGuided, RejectsMissingOrOutOfRangeVisibility) {
+  const Mesh m = test::icosphere(1);
+  SimplifyOptions o = vg_options({});
+  o.target_faces = 20;
+  EXPECT_THROW(simplify(m, o), UsageError);
+  o.face_visibility.assign(m.num_faces(), 0.5f);
+  o.face_visibility[3] = 1.5f;
+  EXPECT_THROW(simplify(m, o), UsageError);
+  o.face_visibility[3] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(simplify(m, o), UsageError);
+}
+
+// Every level of one run equals a separate run to its count: on a closed mesh at odd
+// targets (the level ends one below and is finished on a copy), on an open one (boundary
+// collapses can hit the target exactly), and with VG weights.
+void expect_levels_equal_separate_runs(const Mesh& m, const SimplifyOptions& base, const std::vector<std::size_t>& targets) {
+  const std::vector<Simplified> levels = simplify_levels(m, base, targets);
+  ASSERT_EQ(levels.size(), targets.size());
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    SimplifyOptions o = base;
+    o.target_faces = targets[i];
+    const Simplified separate = simplify(m, o);
+    SCOPED_TRACE("target " + std::to_string(targets[i]));
+    expect_identical(levels[i].mesh, separate.mesh);
+    EXPECT_EQ(levels[i].result.collapses, separate.result.collapses);
+    EXPECT_EQ(levels[i].result.stop_reason, separate.result.stop_reason);
+  }
+}
+
+TEST(SimplifyLevels, EachLevelEqualsASeparateRun) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  expect_levels_equal_separate_runs(bunny, SimplifyOptions{}, {2001, 1501, 1000, 333, 101, 1000});
+  const Mesh open = read_mesh(test::bundled_mesh("aneurysm_open.ply"));
+  expect_levels_equal_separate_runs(open, SimplifyOptions{}, {open.num_faces() / 2 + 1, open.num_faces() / 5 + 1, 301});
+  std::vector<float> v(bunny.num_faces());
+  for (std::size_t f = 0; f < v.size(); ++f) v[f] = float(f % 7) / 6.0f;
+  expect_levels_equal_separate_runs(bunny, vg_options(v), {1801, 700, 99});
+}
+
+TEST(SimplifyLevels, TargetsAboveTheInputKeepIt) {
+  const Mesh m = test::icosphere(1);
+  const std::vector<Simplified> levels = simplify_levels(m, SimplifyOptions{}, {1000, 40});
+  EXPECT_EQ(levels[0].mesh.num_faces(), m.num_faces());
+  EXPECT_LE(levels[1].mesh.num_faces(), 40u);
+  EXPECT_THROW(simplify_levels(m, SimplifyOptions{}, {}), UsageError);
+  EXPECT_THROW(simplify_levels(m, SimplifyOptions{}, {0}), UsageError);
+}
+
+}  // namespace
+}  // namespace visimp
