@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -43,6 +44,10 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
         spec->set("");
       } else if (eq != std::string::npos) {
         spec->set(a.substr(eq + 1));
+      } else if (!spec->implicit_value.empty()) {
+        const bool next_is_number = i + 1 < args.size() && !args[i + 1].empty() &&
+                                    (std::isdigit(static_cast<unsigned char>(args[i + 1][0])) || args[i + 1][0] == '.');
+        spec->set(next_is_number ? std::string_view(args[++i]) : std::string_view(spec->implicit_value));
       } else {
         if (i + 1 >= args.size()) throw UsageError(flag + " needs a value " + spec->value_name);
         spec->set(args[++i]);
@@ -63,7 +68,9 @@ std::string ArgParser::help() const {
   std::ostringstream s;
   s << "usage: " << usage_ << "\n\n" << description_ << "\n\noptions:\n";
   for (const auto& spec : specs_) {
-    std::string left = "  " + spec.flag + (spec.value_name.empty() ? "" : " " + spec.value_name);
+    std::string value = spec.value_name;
+    if (!value.empty() && !spec.implicit_value.empty()) value = "[" + value + "]";
+    std::string left = "  " + spec.flag + (value.empty() ? "" : " " + value);
     if (left.size() < 28) left.resize(28, ' ');
     else left += "  ";
     s << left << spec.help;

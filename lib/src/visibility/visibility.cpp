@@ -451,4 +451,43 @@ Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Render
   return out;
 }
 
+HiddenRemoval drop_hidden_faces(const Mesh& mesh, const std::vector<float>& face_visibility, double threshold) {
+  if (face_visibility.size() != mesh.num_faces()) {
+    throw UsageError("dropping hidden faces needs V of every face: got " + std::to_string(face_visibility.size()) +
+                     " values for " + std::to_string(mesh.num_faces()) + " faces");
+  }
+  if (!(threshold >= 0 && threshold < 1)) throw UsageError("--drop-hidden threshold must be in [0, 1)");
+  HiddenRemoval r;
+  // Vertices only dropped faces used go too; the rest (isolated ones included) stay, in order.
+  std::vector<std::uint8_t> used(mesh.num_vertices(), 0);  // bit 0: by any face, bit 1: by a kept face
+  double total_area = 0;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const Face& face = mesh.faces[f];
+    const double area = 0.5 * norm(face_normal_unnormalized(mesh, face));
+    total_area += area;
+    const bool keep = face_visibility[f] > threshold;
+    if (!keep) {
+      ++r.faces_removed;
+      r.area_removed += area;
+    }
+    for (VertexIndex v : face) used[v] |= static_cast<std::uint8_t>(keep ? 3 : 1);
+  }
+  std::vector<VertexIndex> remap(mesh.num_vertices(), 0);
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+    if (used[v] == 1) continue;
+    remap[v] = static_cast<VertexIndex>(r.mesh.positions.size());
+    r.mesh.positions.push_back(mesh.positions[v]);
+    if (mesh.has_vertex_quality()) r.mesh.vertex_quality.push_back(mesh.vertex_quality[v]);
+  }
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    if (!(face_visibility[f] > threshold)) continue;
+    const Face& face = mesh.faces[f];
+    r.mesh.faces.push_back({remap[face[0]], remap[face[1]], remap[face[2]]});
+    r.face_visibility.push_back(face_visibility[f]);
+    if (mesh.has_face_quality()) r.mesh.face_quality.push_back(mesh.face_quality[f]);
+  }
+  r.area_fraction_removed = total_area > 0 ? r.area_removed / total_area : 0.0;
+  return r;
+}
+
 }  // namespace visimp

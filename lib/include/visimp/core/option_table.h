@@ -18,6 +18,9 @@ struct OptionSpec {
   std::string help;          ///< meaning, unit and range
   std::string default_text;  ///< the field's value when the spec was made
   std::function<void(std::string_view)> set;  ///< parses a value into the field; throws UsageError
+  /// Non-empty: the value may be left out ("--drop-hidden" means "--drop-hidden 0"); a value
+  /// is then taken only as "--flag=V" or when the next argument is a number.
+  std::string implicit_value;
 };
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help);

@@ -120,6 +120,19 @@ Rgb visibility_color(double v);
 /// by visibility_color(face_visibility[f]) and flat-shaded.
 RgbImage render_visibility_map(const Mesh& mesh, const std::vector<float>& face_visibility, int size);
 
+/// The result of leaving out never-seen geometry (`--drop-hidden`).
+struct HiddenRemoval {
+  Mesh mesh;  ///< faces with V > threshold and the vertices they or no face use, both in input order
+  std::vector<float> face_visibility;  ///< V of the kept faces
+  std::size_t faces_removed = 0;
+  double area_removed = 0;             ///< input units²
+  double area_fraction_removed = 0;    ///< of the input's total area
+};
+
+/// Removes every face with V ≤ threshold (threshold in [0, 1); 0 removes exactly the faces
+/// no camera saw). Face and vertex quality, when present, follow their faces and vertices.
+HiddenRemoval drop_hidden_faces(const Mesh& mesh, const std::vector<float>& face_visibility, double threshold);
+
 /// Closed, consistently oriented, every component enclosing positive volume: then every
 /// back face is hidden behind a front face and need not be drawn.
 bool back_faces_always_hidden(const Mesh& mesh);

@@ -1,0 +1,90 @@
+// QB against VG (Zhang & Turk 2002 §5, Fig. 4 and Table 2): visibility once, both methods to
+// the same levels in one collapse run each, and for every result the Metro-style error, the
+// visibility-weighted error and the image error, each stage timed. write_compare_report()
+// turns a CompareResult into the files `visimp compare` promises (docs/compare.md).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "visimp/cameras/camera_set.h"
+#include "visimp/core/mesh.h"
+#include "visimp/metrics/image_error.h"
+#include "visimp/metrics/surface_distance.h"
+#include "visimp/render/renderer.h"
+#include "visimp/simplify/simplify.h"
+#include "visimp/visibility/visibility.h"
+
+namespace visimp {
+
+struct CompareOptions {
+  /// Face counts to compare at; empty: `levels` counts log-spaced over [min_ratio, max_ratio]
+  /// of the input's faces (default_targets).
+  std::vector<std::size_t> targets;
+  std::size_t levels = 7;
+  double min_ratio = 0.02, max_ratio = 0.30;
+  /// Shared by both methods (method and face_visibility are set per method).
+  SimplifyOptions simplify;
+  VisibilityOptions visibility;
+  /// V from the input's face quality instead of rendering it.
+  bool visibility_from_quality = false;
+  /// Metro face samples per direction; 0: 10 × the input's faces, at most 2,000,000.
+  std::size_t metro_samples = 0;
+  ImageErrorOptions image;
+};
+
+/// Throws UsageError for out-of-range values.
+void check_options(const CompareOptions& options);
+
+/// `levels` face counts from max_ratio·faces down to min_ratio·faces, evenly spaced in log,
+/// rounded to even numbers (closed meshes lose faces two at a time), distinct, ≥ 4.
+std::vector<std::size_t> default_targets(std::size_t faces, std::size_t levels, double min_ratio, double max_ratio);
+
+/// One method at one level.
+struct CompareLevel {
+  std::size_t target = 0, faces = 0;
+  double seconds_simplify = 0;  ///< from the start of the method's run to this level
+  SurfaceDistance distance;     ///< input (A, with V) against the result (B)
+  ImageError image;
+  double seconds_metro = 0, seconds_image = 0;
+  Mesh mesh;
+};
+
+struct CompareResult {
+  std::size_t faces_in = 0;
+  double diagonal = 0;      ///< input bounding-box diagonal: relative errors divide by it
+  Visibility visibility;    ///< V of the input (stats empty when read from quality)
+  bool visibility_from_quality = false;
+  double seconds_visibility = 0;
+  std::vector<std::size_t> targets;          ///< descending
+  std::vector<CompareLevel> qb, vg;          ///< one per target, same order
+  double seconds_qb = 0, seconds_vg = 0;     ///< each method's whole collapse run
+  /// Mean over the levels of 100·(QB − VG)/QB of the image RMS: Table 2's last column.
+  double less_image_error_percent = 0;
+};
+
+/// Progress of the stages, for a progress bar.
+class CompareObserver {
+ public:
+  virtual ~CompareObserver() = default;
+  /// `stage`: "visibility", "qb", "vg", "errors"; fraction of that stage done.
+  virtual void on_compare_progress(const std::string& /*stage*/, double /*fraction*/) {}
+};
+
+/// Throws UsageError / InvalidMeshError like the stages it runs.
+CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Renderer& renderer,
+                              const CompareOptions& options, CompareObserver* observer = nullptr);
+
+/// Writes into `directory` (created if missing; each file atomically): results.csv,
+/// results.json, four SVG plots, qb_<faces>.ply and vg_<faces>.ply per level, visibility.png,
+/// side_by_side.png (original | QB | VG at the middle level) and report.html. Returns the paths
+/// written. `input_name` is what the report calls the input.
+std::vector<std::string> write_compare_report(const CompareResult& result, const Mesh& input,
+                                              const std::string& input_name, const std::string& directory);
+
+/// Zhang & Turk's Table 2 row as text: faces, V(M), seconds of visibility and of VG
+/// simplification, % less image error with VG than QB.
+std::string table2_row(const CompareResult& result, const std::string& name);
+
+}  // namespace visimp

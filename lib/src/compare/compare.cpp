@@ -1,0 +1,180 @@
+#include "visimp/compare/compare.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <iomanip>
+#include <sstream>
+
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
+#include "visimp/core/mesh_stats.h"
+#include "visimp/core/validate.h"
+
+namespace visimp {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Forwards one stage's progress to the compare observer.
+class StageProgress final : public RenderObserver, public SimplifyObserver {
+ public:
+  StageProgress(CompareObserver* observer, std::string stage) : observer_(observer), stage_(std::move(stage)) {}
+  void on_render_progress(double fraction) override { on_progress(fraction); }
+  void on_progress(double fraction) override {
+    if (observer_) observer_->on_compare_progress(stage_, fraction);
+  }
+
+ private:
+  CompareObserver* observer_;
+  std::string stage_;
+};
+
+Visibility visibility_from_quality(const Mesh& input) {
+  if (input.face_quality.size() != input.num_faces()) {
+    throw InvalidMeshError("the input has no face quality to read V from");
+  }
+  Visibility v;
+  v.face = input.face_quality;
+  double weighted = 0, area = 0;
+  for (std::size_t f = 0; f < input.num_faces(); ++f) {
+    const float q = v.face[f];
+    if (!(q >= 0.0f && q <= 1.0f)) {
+      throw InvalidMeshError("face quality of face " + std::to_string(f) + " is " + std::to_string(q) +
+                             ", not a visibility in [0, 1]");
+    }
+    const double a = 0.5 * norm(face_normal_unnormalized(input, input.faces[f]));
+    weighted += a * q;
+    area += a;
+  }
+  v.mesh = area > 0 ? weighted / area : 0.0;
+  return v;
+}
+
+std::vector<CompareLevel> run_method(const Mesh& input_with_v, SimplifyOptions options,
+                                     const std::vector<std::size_t>& targets, StageProgress& progress,
+                                     double& seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Simplified> levels = simplify_levels(input_with_v, options, targets, &progress);
+  seconds = seconds_since(start);
+  std::vector<CompareLevel> out(levels.size());
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    out[i].target = targets[i];
+    out[i].faces = levels[i].mesh.num_faces();
+    out[i].seconds_simplify = levels[i].result.seconds;
+    out[i].mesh = std::move(levels[i].mesh);
+  }
+  return out;
+}
+
+}  // namespace
+
+void check_options(const CompareOptions& o) {
+  if (o.targets.empty() && (o.levels < 1 || o.levels > 64)) throw UsageError("--levels must be in 1..64");
+  if (!(o.min_ratio > 0 && o.min_ratio <= o.max_ratio && o.max_ratio < 1)) {
+    throw UsageError("level ratios must satisfy 0 < min <= max < 1");
+  }
+  for (std::size_t t : o.targets)
+    if (t < 4) throw UsageError("--targets: every face count must be >= 4");
+  check_options(o.visibility);
+}
+
+std::vector<std::size_t> default_targets(std::size_t faces, std::size_t levels, double min_ratio, double max_ratio) {
+  std::vector<std::size_t> targets;
+  for (std::size_t i = 0; i < levels; ++i) {
+    const double t = levels == 1 ? 0.0 : double(i) / double(levels - 1);
+    const double ratio = max_ratio * std::pow(min_ratio / max_ratio, t);
+    std::size_t n = static_cast<std::size_t>(std::llround(ratio * double(faces) / 2.0)) * 2;
+    n = std::max<std::size_t>(n, 4);
+    if (targets.empty() || n < targets.back()) targets.push_back(n);
+  }
+  return targets;
+}
+
+CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Renderer& renderer,
+                              const CompareOptions& options, CompareObserver* observer) {
+  check_options(options);
+  require_valid(input, "compare input");
+  CompareResult r;
+  r.faces_in = input.num_faces();
+  r.diagonal = bounding_box(input).diagonal();
+  r.targets = options.targets.empty()
+                  ? default_targets(input.num_faces(), options.levels, options.min_ratio, options.max_ratio)
+                  : options.targets;
+  std::sort(r.targets.begin(), r.targets.end(), std::greater<>());
+  r.targets.erase(std::unique(r.targets.begin(), r.targets.end()), r.targets.end());
+  if (r.targets.front() >= input.num_faces()) {
+    throw UsageError("target " + std::to_string(r.targets.front()) + " is not below the input's " +
+                     std::to_string(input.num_faces()) + " faces");
+  }
+
+  auto t = std::chrono::steady_clock::now();
+  r.visibility_from_quality = options.visibility_from_quality;
+  if (options.visibility_from_quality) {
+    r.visibility = visibility_from_quality(input);
+  } else {
+    StageProgress progress(observer, "visibility");
+    r.visibility = compute_visibility(input, cameras, renderer, options.visibility, &progress);
+  }
+  r.seconds_visibility = seconds_since(t);
+
+  // Both methods simplify the input carrying V as face quality, so every result says how
+  // visible its surviving faces were.
+  Mesh input_with_v = input;
+  input_with_v.face_quality = r.visibility.face;
+  SimplifyOptions qb = options.simplify, vg = options.simplify;
+  qb.method = SimplifyMethod::qb;
+  qb.face_visibility.clear();
+  vg.method = SimplifyMethod::vg;
+  vg.face_visibility = r.visibility.face;
+  {
+    StageProgress progress(observer, "qb");
+    r.qb = run_method(input_with_v, qb, r.targets, progress, r.seconds_qb);
+  }
+  {
+    StageProgress progress(observer, "vg");
+    r.vg = run_method(input_with_v, vg, r.targets, progress, r.seconds_vg);
+  }
+
+  SurfaceDistanceOptions metro;
+  metro.samples = options.metro_samples ? options.metro_samples : std::min<std::size_t>(10 * input.num_faces(), 2'000'000);
+  metro.visibility_weighted = true;
+  const std::size_t total = r.qb.size() + r.vg.size();
+  std::size_t done = 0;
+  for (std::vector<CompareLevel>* method : {&r.qb, &r.vg}) {
+    for (CompareLevel& level : *method) {
+      t = std::chrono::steady_clock::now();
+      level.distance = surface_distance(input_with_v, level.mesh, metro);
+      level.seconds_metro = seconds_since(t);
+      t = std::chrono::steady_clock::now();
+      level.image = image_error(input, level.mesh, options.image);
+      level.seconds_image = seconds_since(t);
+      if (observer) observer->on_compare_progress("errors", double(++done) / double(total));
+    }
+  }
+  double sum = 0;
+  std::size_t counted = 0;
+  for (std::size_t i = 0; i < r.targets.size(); ++i) {
+    if (!(r.qb[i].image.rms > 0)) continue;
+    sum += 100.0 * (r.qb[i].image.rms - r.vg[i].image.rms) / r.qb[i].image.rms;
+    ++counted;
+  }
+  r.less_image_error_percent = counted ? sum / double(counted) : 0.0;
+  return r;
+}
+
+std::string table2_row(const CompareResult& r, const std::string& name) {
+  std::ostringstream s;
+  s << std::fixed;
+  s << "| model | faces | V(M) | visibility s | VG simplification s | QB simplification s | less image error with VG |\n"
+    << "|---|---|---|---|---|---|---|\n"
+    << "| " << name << " | " << r.faces_in << " | " << std::setprecision(3) << r.visibility.mesh << " | "
+    << std::setprecision(2) << r.seconds_visibility << " | " << r.seconds_vg << " | " << r.seconds_qb << " | "
+    << r.less_image_error_percent << "% |\n";
+  return s.str();
+}
+
+}  // namespace visimp
