@@ -1,5 +1,7 @@
 #include "backends.h"
 
+#include <algorithm>
+
 #include "visimp/core/errors.h"
 #include "visimp/render/osmesa_renderer.h"
 
@@ -9,6 +11,21 @@ std::unique_ptr<Renderer> make_renderer(const std::string& backend, const Render
   if (backend == "raster") return make_raster_renderer(options);
   if (backend == "osmesa") return make_osmesa_renderer(options);
   throw UsageError("--backend " + backend + ": expected raster or osmesa");
+}
+
+std::vector<OptionSpec> describe_options(SamplingOptions& o) {
+  return {
+      option_spec("--cameras", "SET", o.cameras,
+                  "6|18|66|258|1026|4098 (octahedron), k0..k5 (level), dodecahedron, or a file of 'x y z' lines"),
+      option_spec("--resolution", "R", o.resolution, "frame width and height in pixels, 16..8192"),
+      option_spec("--backend", "NAME", o.backend, "raster (built-in CPU rasterizer) or osmesa (Mesa llvmpipe)"),
+      option_spec("--threads", "N", o.threads, "worker threads, 0 = one per hardware thread"),
+  };
+}
+
+RenderOptions render_options(const SamplingOptions& o) {
+  if (o.resolution > 8192) throw UsageError("--resolution must be in 16..8192");
+  return {static_cast<int>(o.resolution), static_cast<unsigned>(std::min<std::size_t>(o.threads, 4096))};
 }
 
 }  // namespace visimp::app

@@ -4,12 +4,24 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "visimp/core/option_table.h"
 #include "visimp/render/renderer.h"
 
 namespace visimp::app {
 
 /// "raster" or "osmesa"; throws UsageError for anything else.
 std::unique_ptr<Renderer> make_renderer(const std::string& backend, const RenderOptions& options);
+
+/// How the camera sphere is sampled: the flags every command that renders visibility shares.
+struct SamplingOptions {
+  std::string cameras = "258";
+  std::size_t resolution = 480;
+  std::string backend = "raster";
+  std::size_t threads = 0;
+};
+std::vector<OptionSpec> describe_options(SamplingOptions& o);
+RenderOptions render_options(const SamplingOptions& o);
 
 }  // namespace visimp::app

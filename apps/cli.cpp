@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -106,6 +107,17 @@ std::optional<Format> chosen_format(const std::string& specific, const std::stri
   return f;
 }
 }  // namespace
+
+std::vector<std::size_t> parse_count_list(const std::string& text, const std::string& what) {
+  std::vector<std::size_t> counts;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    counts.push_back(parse_count(std::string_view(text).substr(start, comma - start), what));
+    start = comma + 1;
+  }
+  return counts;
+}
 
 Mesh read_input(const std::string& path, const StreamOptions& o) {
   return read_mesh(path, chosen_format(o.input_format, o.format));

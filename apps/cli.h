@@ -49,6 +49,9 @@ struct StreamOptions {
 std::vector<OptionSpec> describe_options(StreamOptions& o, bool has_output);
 
 Mesh read_input(const std::string& path, const StreamOptions& o);
+
+/// "50000,20000,5000" → counts; throws UsageError naming `what`.
+std::vector<std::size_t> parse_count_list(const std::string& text, const std::string& what);
 /// Refuses to overwrite `input` unless --in-place; writes atomically.
 void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o);
 

@@ -1,10 +1,17 @@
+// visimp simplify: QB or VG edge collapse to one target or many levels in one run, optionally
+// leaving out never-seen faces first (docs/simplify.md).
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 
+#include "backends.h"
 #include "cli.h"
 #include "commands.h"
+#include "visimp/compare/compare.h"
 #include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
 #include "visimp/report/json.h"
+#include "visimp/visibility/visibility.h"
 
 namespace visimp::app {
 
@@ -12,65 +19,175 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+
+// OUT with "_<faces>" before the extension: the name of one level's snapshot.
+std::string level_path(const std::string& out, std::size_t faces) {
+  const std::filesystem::path p(out);
+  return (p.parent_path() / (p.stem().string() + "_" + std::to_string(faces) + p.extension().string())).string();
+}
 }  // namespace
 
 int run_simplify(const Args& args) {
   SimplifyOptions options;
   StreamOptions stream;
-  ArgParser parser("visimp simplify IN OUT (--target N | --ratio R | --max-error E) [options]",
-                   "Simplifies IN by quadric edge collapse (Garland-Heckbert, plain quadrics: QB) and\n"
-                   "writes OUT atomically. Non-manifold and misoriented parts are kept, locked.",
-                   2);
+  SamplingOptions sampling;
+  VisibilityOptions visibility_options;
+  std::string method = "qb", targets_text;
+  std::size_t levels = 0;
+  bool weights_from_quality = false;
+  double drop_hidden = -1;
+  ArgParser parser(
+      "visimp simplify IN OUT (--target N | --ratio R | --max-error E | --targets N,N,.. | --levels K) [options]",
+      "Simplifies IN by quadric edge collapse and writes OUT atomically. --method qb: plain quadrics\n"
+      "(Garland-Heckbert). --method vg: visibility-guided (Zhang & Turk): V(t)^2-weighted quadrics order\n"
+      "the collapses, plain ones place the vertex; V is computed with the sampling options below, or\n"
+      "read from IN's face quality (--weights-from-quality). --targets/--levels write OUT_<faces>.ext\n"
+      "for every level from one collapse run. Non-manifold and misoriented parts are kept, locked.",
+      2);
   parser.add(describe_options(options));
+  parser.add(option_spec("--method", "M", method, "qb (plain quadrics) or vg (visibility-guided)"));
+  parser.add(option_spec("--targets", "N,N,..", targets_text, "face counts of the levels to write (one run)"));
+  parser.add(option_spec("--levels", "K", levels,
+                         "K levels log-spaced from 30% of the faces down to the target (default 2%)"));
+  parser.add(switch_spec("--weights-from-quality", weights_from_quality, "take V from IN's face quality (no rendering)"));
+  OptionSpec drop = option_spec("--drop-hidden", "T", drop_hidden,
+                                "first remove faces with V <= T (never seen: T = 0, the value when T is left out)");
+  drop.implicit_value = "0";
+  drop.default_text = "off";
+  parser.add(drop);
+  parser.add(describe_options(sampling));
+  parser.add(describe_options(visibility_options));
   parser.add(describe_options(stream, true));
   if (!parser.parse(args)) return 0;
-  check_options(options);
+  if (method != "qb" && method != "vg") throw UsageError("--method must be qb or vg, got '" + method + "'");
+  options.method = method == "vg" ? SimplifyMethod::vg : SimplifyMethod::qb;
+  const bool many = !targets_text.empty() || levels > 0;
+  if (!targets_text.empty() && levels > 0) throw UsageError("give --targets or --levels, not both");
+  if (levels > 64) throw UsageError("--levels must be in 1..64");
+  if (!many) check_options(options);
+  check_options(visibility_options);
   const std::string& in = parser.positionals()[0];
   const std::string& out = parser.positionals()[1];
+  if (many && out == "-") throw UsageError("several levels need a file name for OUT, not '-'");
+  const bool needs_visibility = options.method == SimplifyMethod::vg || drop_hidden >= 0;
+  std::unique_ptr<Renderer> renderer;
+  CameraSet cameras;
+  if (needs_visibility && !weights_from_quality) {  // set up before any I/O, so bad flags fail first
+    cameras = camera_set_from_spec(sampling.cameras);
+    renderer = make_renderer(sampling.backend, render_options(sampling));
+  }
 
   auto t = std::chrono::steady_clock::now();
-  const Mesh mesh = read_input(in, stream);
+  Mesh mesh = read_input(in, stream);
   const double read_seconds = seconds_since(t);
+  const double diagonal = bounding_box(mesh).diagonal();
 
-  ProgressBar progress("simplify");
-  Simplified simplified = simplify(mesh, options, &progress);
+  // Visibility only when the request needs it: VG weights or dropping hidden faces.
+  double visibility_seconds = 0;
+  std::optional<Visibility> visibility;
+  if (needs_visibility) {
+    t = std::chrono::steady_clock::now();
+    if (weights_from_quality) {
+      try {
+        visibility = visibility_from_face_quality(mesh);
+      } catch (const InvalidMeshError& e) {
+        throw InvalidMeshError(in + ": " + e.what());
+      }
+    } else {
+      ProgressBar progress("visibility");
+      visibility = compute_visibility(mesh, cameras, *renderer, visibility_options, &progress);
+    }
+    visibility_seconds = seconds_since(t);
+  }
+  std::optional<HiddenRemoval> removal;
+  if (drop_hidden >= 0) {
+    removal = drop_hidden_faces(mesh, visibility->face, drop_hidden);
+    mesh = std::move(removal->mesh);
+    visibility->face = removal->face_visibility;
+  }
+  if (options.method == SimplifyMethod::vg) options.face_visibility = visibility->face;
+
+  std::vector<std::size_t> targets;
+  if (!targets_text.empty()) targets = parse_count_list(targets_text, "--targets");
+  if (levels > 0) {
+    const double low = options.target_faces > 0 ? double(options.target_faces) / double(std::max<std::size_t>(mesh.num_faces(), 1))
+                                                : (options.target_ratio > 0 ? options.target_ratio : 0.02);
+    targets = default_targets(mesh.num_faces(), levels, std::min(low, 0.30), 0.30);
+  }
+
+  std::vector<Simplified> results;
+  {
+    ProgressBar progress("simplify");
+    if (many) results = simplify_levels(mesh, options, targets, &progress);
+    else results.push_back(simplify(mesh, options, &progress));
+  }
 
   t = std::chrono::steady_clock::now();
-  write_output(simplified.mesh, out, in, stream);
+  std::vector<std::string> outputs;
+  for (const Simplified& s : results) {
+    outputs.push_back(many ? level_path(out, s.mesh.num_faces()) : out);
+    write_output(s.mesh, outputs.back(), in, stream);
+  }
   const double write_seconds = seconds_since(t);
 
-  const SimplifyResult& r = simplified.result;
-  const double diagonal = bounding_box(mesh).diagonal();
   std::ostream& report = out == "-" ? std::cerr : std::cout;
   if (stream.json) {
     JsonWriter json(report);
     json.begin_object()
         .field("command", "simplify")
         .field("input", in)
-        .field("output", out)
-        .field("method", "qb")
-        .field("faces_in", r.faces_in)
-        .field("faces_out", r.faces_out)
-        .field("vertices_in", r.vertices_in)
-        .field("vertices_out", r.vertices_out)
-        .field("target_faces", r.target_faces)
-        .field("collapses", r.collapses)
-        .field("rejected_collapses", r.rejected_collapses)
-        .field("locked_vertices", r.locked_vertices)
-        .field("dropped_faces", r.dropped_faces)
-        .field("stop_reason", to_string(r.stop_reason))
-        .field("max_error_relative", r.max_error)
-        .field("max_error", r.max_error * diagonal)
+        .field("method", method)
         .field("bbox_diagonal", diagonal);
+    if (visibility) {
+      json.field("mesh_visibility", visibility->mesh).field("visibility_from_quality", weights_from_quality);
+    }
+    if (removal) {
+      json.key("drop_hidden").begin_object()
+          .field("threshold", drop_hidden)
+          .field("faces_removed", removal->faces_removed)
+          .field("area_removed", removal->area_removed)
+          .field("area_fraction_removed", removal->area_fraction_removed)
+          .end_object();
+    }
+    json.key("levels").begin_array();
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      const SimplifyResult& r = results[i].result;
+      json.begin_object()
+          .field("output", outputs[i])
+          .field("faces_in", r.faces_in)
+          .field("faces_out", r.faces_out)
+          .field("vertices_in", r.vertices_in)
+          .field("vertices_out", r.vertices_out)
+          .field("target_faces", r.target_faces)
+          .field("collapses", r.collapses)
+          .field("rejected_collapses", r.rejected_collapses)
+          .field("locked_vertices", r.locked_vertices)
+          .field("dropped_faces", r.dropped_faces)
+          .field("stop_reason", to_string(r.stop_reason))
+          .field("max_error_relative", r.max_error)
+          .field("max_error", r.max_error * diagonal)
+          .field("seconds_simplify", r.seconds)
+          .end_object();
+    }
+    json.end_array();
     json.key("seconds").begin_object()
         .field("read", read_seconds)
-        .field("simplify", r.seconds)
+        .field("visibility", visibility_seconds)
+        .field("simplify", results.back().result.seconds)
         .field("write", write_seconds)
         .end_object();
     json.end_object();
   } else {
-    report << in << ": " << r.faces_in << " -> " << r.faces_out << " faces (" << to_string(r.stop_reason)
-           << "), max error " << r.max_error << " of the bbox diagonal, " << r.seconds << " s\n";
+    if (removal) {
+      report << in << ": dropped " << removal->faces_removed << " hidden faces (" << 100.0 * removal->area_fraction_removed
+             << "% of the area)\n";
+    }
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      const SimplifyResult& r = results[i].result;
+      report << outputs[i] << ": " << r.faces_in << " -> " << r.faces_out << " faces (" << method << ", "
+             << to_string(r.stop_reason) << "), max error " << r.max_error << " of the bbox diagonal, " << r.seconds
+             << " s\n";
+    }
   }
   return 0;
 }

@@ -22,29 +22,6 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Options of every visibility command besides the measure's own.
-struct SamplingOptions {
-  std::string cameras = "258";
-  std::size_t resolution = 480;
-  std::string backend = "raster";
-  std::size_t threads = 0;
-};
-
-std::vector<OptionSpec> describe_options(SamplingOptions& o) {
-  return {
-      option_spec("--cameras", "SET", o.cameras,
-                  "6|18|66|258|1026|4098 (octahedron), k0..k5 (level), dodecahedron, or a file of 'x y z' lines"),
-      option_spec("--resolution", "R", o.resolution, "frame width and height in pixels, 16..8192"),
-      option_spec("--backend", "NAME", o.backend, "raster (built-in CPU rasterizer) or osmesa (Mesa llvmpipe)"),
-      option_spec("--threads", "N", o.threads, "worker threads, 0 = one per hardware thread"),
-  };
-}
-
-RenderOptions render_options(const SamplingOptions& o) {
-  if (o.resolution > 8192) throw UsageError("--resolution must be in 16..8192");
-  return {static_cast<int>(o.resolution), static_cast<unsigned>(std::min<std::size_t>(o.threads, 4096))};
-}
-
 // "a:b" → [a, b); empty → the whole set.
 std::pair<std::size_t, std::size_t> parse_camera_range(const std::string& text, std::size_t cameras) {
   if (text.empty()) return {0, cameras};

@@ -13,9 +13,10 @@ constexpr const char* kUsage =
     "usage: visimp COMMAND [options]\n"
     "\n"
     "commands:\n"
-    "  simplify IN OUT   quadric edge-collapse simplification (QB)\n"
-    "  info IN           counts, bounding box, components, boundary and non-manifold edges\n"
-    "  convert IN OUT    change mesh format (ply, obj, off, stl)\n"
+    "  compare IN [-o DIR]        QB vs VG at the same face counts: errors, seconds, plots, report.html\n"
+    "  simplify IN OUT            quadric edge collapse, plain (QB) or visibility-guided (VG)\n"
+    "  info IN                    counts, bounding box, components, boundary and non-manifold edges\n"
+    "  convert IN OUT             change mesh format (ply, obj, off, stl)\n"
     "  visibility IN OUT.ply      per-face visibility V(t) from a sphere of cameras (Zhang & Turk)\n"
     "  visibility-merge PART...   add tallies of camera slices computed separately\n"
     "  visibility-study IN        visibility error vs cameras and seconds (the paper's Fig. 3)\n"
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
     if (command == "visibility-study") return app::run_visibility_study(args);
     if (command == "metro") return app::run_metro(args);
     if (command == "imgerr") return app::run_imgerr(args);
+    if (command == "compare") return app::run_compare(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const UsageError& e) {
     std::cerr << "visimp " << command << ": error: " << e.what() << "\n";

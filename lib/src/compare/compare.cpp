@@ -33,27 +33,6 @@ class StageProgress final : public RenderObserver, public SimplifyObserver {
   std::string stage_;
 };
 
-Visibility visibility_from_quality(const Mesh& input) {
-  if (input.face_quality.size() != input.num_faces()) {
-    throw InvalidMeshError("the input has no face quality to read V from");
-  }
-  Visibility v;
-  v.face = input.face_quality;
-  double weighted = 0, area = 0;
-  for (std::size_t f = 0; f < input.num_faces(); ++f) {
-    const float q = v.face[f];
-    if (!(q >= 0.0f && q <= 1.0f)) {
-      throw InvalidMeshError("face quality of face " + std::to_string(f) + " is " + std::to_string(q) +
-                             ", not a visibility in [0, 1]");
-    }
-    const double a = 0.5 * norm(face_normal_unnormalized(input, input.faces[f]));
-    weighted += a * q;
-    area += a;
-  }
-  v.mesh = area > 0 ? weighted / area : 0.0;
-  return v;
-}
-
 std::vector<CompareLevel> run_method(const Mesh& input_with_v, SimplifyOptions options,
                                      const std::vector<std::size_t>& targets, StageProgress& progress,
                                      double& seconds) {
@@ -114,7 +93,7 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   auto t = std::chrono::steady_clock::now();
   r.visibility_from_quality = options.visibility_from_quality;
   if (options.visibility_from_quality) {
-    r.visibility = visibility_from_quality(input);
+    r.visibility = visibility_from_face_quality(input);
   } else {
     StageProgress progress(observer, "visibility");
     r.visibility = compute_visibility(input, cameras, renderer, options.visibility, &progress);

@@ -76,7 +76,8 @@ struct CollapseProfile {
   VertexIndex opposite[2] = {0, 0};
   int num_removed = 0;
   Placement placement;
-  double cost = 0;   // quadric error Q(x) that orders the queue
+  double cost = 0;   // Q(x) (QB) or Q_v(x) (VG): orders the queue
+  double plain = 0;  // Q(x): breaks VG's ties among collapses that only touch hidden faces
   double error = 0;  // RMS plane distance in the unit frame (= relative to the diagonal)
 };
 
@@ -344,16 +345,27 @@ class CollapseEngine {
   void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
     const Quadric q = quadrics_[v0] + quadrics_[v1];
     p.placement = place(q, positions_[v0], positions_[v1]);
-    const double plain = q.evaluate(p.placement.position);
-    p.cost = cost_quadrics_.empty() ? plain : (cost_quadrics_[v0] + cost_quadrics_[v1]).evaluate(p.placement.position);
-    p.error = std::sqrt(plain / std::max(q.area, 1e-300));
+    p.plain = q.evaluate(p.placement.position);
+    p.cost = cost_quadrics_.empty() ? p.plain : (cost_quadrics_[v0] + cost_quadrics_[v1]).evaluate(p.placement.position);
+    p.error = std::sqrt(p.plain / std::max(q.area, 1e-300));
+  }
+
+  // The queue key: the float bits of the cost. Under VG every collapse among faces no camera
+  // saw costs exactly 0; instead of leaving their order to the heap, they are ordered by the
+  // plain error, mapped into the keys of the subnormal floats — below every normal cost — so
+  // hidden parts still lose their least important detail first. With V ≡ 1, Q_v = Q and
+  // the keys are QB's.
+  std::uint32_t queue_key(const CollapseProfile& p) const {
+    if (cost_quadrics_.empty() || p.cost > 0 || !(p.plain > 0)) return detail::radix_key(static_cast<float>(p.cost));
+    const double t = p.plain / (p.plain + 1.0);  // [0, 1), monotone in the plain error
+    return 1u + static_cast<std::uint32_t>(t * double(0x7ffffe));
   }
 
   void push_edge(VertexIndex a, VertexIndex b) {
     if ((flags_[a] | flags_[b]) & kLocked) return;
     CollapseProfile p;
     evaluate(a, b, p);
-    heap_.push({detail::radix_key(static_cast<float>(p.cost)), a, b, clock_});
+    heap_.push({queue_key(p), a, b, clock_});
   }
 
   bool is_stale(const HeapEntry& e) const {

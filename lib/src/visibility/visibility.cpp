@@ -490,4 +490,25 @@ HiddenRemoval drop_hidden_faces(const Mesh& mesh, const std::vector<float>& face
   return r;
 }
 
+Visibility visibility_from_face_quality(const Mesh& input) {
+  if (input.face_quality.size() != input.num_faces()) {
+    throw InvalidMeshError("the input has no face quality to read V from");
+  }
+  Visibility v;
+  v.face = input.face_quality;
+  double weighted = 0, area = 0;
+  for (std::size_t f = 0; f < input.num_faces(); ++f) {
+    const float q = v.face[f];
+    if (!(q >= 0.0f && q <= 1.0f)) {
+      throw InvalidMeshError("face quality of face " + std::to_string(f) + " is " + std::to_string(q) +
+                             ", not a visibility in [0, 1]");
+    }
+    const double a = 0.5 * norm(face_normal_unnormalized(input, input.faces[f]));
+    weighted += a * q;
+    area += a;
+  }
+  v.mesh = area > 0 ? weighted / area : 0.0;
+  return v;
+}
+
 }  // namespace visimp

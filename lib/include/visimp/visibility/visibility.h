@@ -113,6 +113,10 @@ VisibilityOptions options_of(const TallyKey& key);
 Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,
                               const VisibilityOptions& options = {}, RenderObserver* observer = nullptr);
 
+/// V read back from a mesh's face quality (a `visimp visibility` output): face V and V(M);
+/// no vertex V, no stats. Throws InvalidMeshError when the quality is missing or outside [0, 1].
+Visibility visibility_from_face_quality(const Mesh& mesh);
+
 /// The paper's colour scale (Fig. 2): 0–1/3 white→red, 1/3–2/3 red→yellow, 2/3–1 yellow→green.
 Rgb visibility_color(double v);
 
