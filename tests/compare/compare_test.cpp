@@ -1,0 +1,160 @@
+// QB vs VG end to end on a constructed scene with a known answer, and the report files.
+#include "visimp/compare/compare.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_meshes.h"
+#include "visimp/core/errors.h"
+#include "visimp/io/mesh_io.h"
+
+namespace visimp {
+namespace {
+
+// A closed 16×16-per-side box whose sides carry a relief (the exterior detail: every collapse
+// on it costs), sealing a finely tessellated sphere (5,120 faces) no outside camera can see.
+struct SealedScene {
+  Mesh mesh;
+  std::size_t box_faces = 0;
+};
+
+SealedScene sealed_sphere_in_box() {
+  SealedScene s;
+  s.mesh = test::subdivided_cube(16);
+  for (Vec3& p : s.mesh.positions) {
+    int on_side = 0, axis = 0;
+    for (int k = 0; k < 3; ++k)
+      if (p[k] == 0.0 || p[k] == 1.0) {
+        ++on_side;
+        axis = k;
+      }
+    if (on_side != 1) continue;  // cube edges and corners stay
+    const double u = p[(axis + 1) % 3], v = p[(axis + 2) % 3];
+    p[axis] += (p[axis] == 1.0 ? 1 : -1) * 0.02 * std::sin(23 * u) * std::cos(19 * v);
+  }
+  s.box_faces = s.mesh.num_faces();
+  const Mesh sphere = test::icosphere(4, 0.3);
+  const auto offset = static_cast<VertexIndex>(s.mesh.num_vertices());
+  for (const Vec3& p : sphere.positions) s.mesh.positions.push_back(p + Vec3{0.5, 0.5, 0.5});
+  for (const Face& f : sphere.faces) s.mesh.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  return s;
+}
+
+bool inside_box(const Mesh& m, const Face& f) {
+  const Vec3 c = (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3.0;
+  return c.x > 0.05 && c.x < 0.95 && c.y > 0.05 && c.y < 0.95 && c.z > 0.05 && c.z < 0.95;
+}
+
+std::size_t sphere_faces(const Mesh& m) {
+  return static_cast<std::size_t>(std::count_if(m.faces.begin(), m.faces.end(), [&](const Face& f) { return inside_box(m, f); }));
+}
+
+CompareOptions quick_options(std::vector<std::size_t> targets) {
+  CompareOptions o;
+  o.targets = std::move(targets);
+  o.metro_samples = 200000;
+  o.image.resolution = 128;
+  return o;
+}
+
+TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
+  const SealedScene scene = sealed_sphere_in_box();
+  const auto renderer = make_raster_renderer({128, 0});
+  const CompareResult r = compare_methods(scene.mesh, octahedron_cameras(2), *renderer,
+                                          quick_options({scene.mesh.num_faces() / 2}));
+  // V = 0 on the whole sphere, > 0 on the box.
+  for (std::size_t f = 0; f < scene.mesh.num_faces(); ++f) {
+    if (f < scene.box_faces) EXPECT_GT(r.visibility.face[f], 0.2f) << f;
+    else EXPECT_EQ(r.visibility.face[f], 0.0f) << f;
+  }
+  ASSERT_EQ(r.qb.size(), 1u);
+  ASSERT_EQ(r.vg.size(), 1u);
+  const Mesh &qb = r.qb[0].mesh, &vg = r.vg[0].mesh;
+  EXPECT_LE(qb.num_faces(), scene.mesh.num_faces() / 2);
+  EXPECT_LE(vg.num_faces(), scene.mesh.num_faces() / 2);
+  // VG took the faces from the sphere: the box is whole, the sphere paid for everything.
+  EXPECT_EQ(vg.num_faces() - sphere_faces(vg), scene.box_faces);
+  EXPECT_LT(sphere_faces(vg), sphere_faces(qb));
+  // The box exterior (what every camera sees) is exact under VG, not under QB; the sealed
+  // sphere never shows, so the image error favours VG too.
+  EXPECT_LT(r.vg[0].distance.visible.max, 1e-12);  // rounding only: every box vertex kept in place
+  EXPECT_GT(r.qb[0].distance.visible.max, 1e-4);  // QB flattened some relief (0.04 peak to peak)
+  EXPECT_LT(r.vg[0].distance.visible.rms, r.qb[0].distance.visible.rms);
+  EXPECT_LE(r.vg[0].image.rms, r.qb[0].image.rms);
+  EXPECT_GE(r.less_image_error_percent, 0.0);
+}
+
+TEST(Compare, DefaultTargetsAreLogSpacedEvenAndDistinct) {
+  const std::vector<std::size_t> t = default_targets(100000, 7, 0.02, 0.30);
+  ASSERT_EQ(t.size(), 7u);
+  EXPECT_EQ(t.front(), 30000u);
+  EXPECT_EQ(t.back(), 2000u);
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    EXPECT_EQ(t[i] % 2, 0u);
+    if (i > 0) {
+      EXPECT_LT(t[i], t[i - 1]);
+      EXPECT_NEAR(double(t[i - 1]) / double(t[i]), std::pow(15.0, 1.0 / 6.0), 0.01);
+    }
+  }
+  EXPECT_EQ(default_targets(40, 7, 0.02, 0.30).back(), 4u);  // tiny inputs: no zero or repeated levels
+}
+
+std::vector<std::string> lines_of(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  const auto renderer = make_raster_renderer({128, 0});
+  const CompareResult r = compare_methods(bunny, octahedron_cameras(1), *renderer, quick_options({1000, 400}));
+  const std::string dir = test::temp_dir("compare_report");
+  const std::vector<std::string> written = write_compare_report(r, bunny, "bunny", dir);
+  for (const char* name : {"results.csv", "results.json", "image_error_vs_faces.svg", "image_error_vs_seconds.svg",
+                           "geometric_error_vs_faces.svg", "geometric_error_vs_seconds.svg", "visibility.png",
+                           "side_by_side.png", "report.html"}) {
+    const std::string path = dir + "/" + name;
+    EXPECT_TRUE(std::filesystem::file_size(path) > 100) << path;
+    EXPECT_NE(std::find(written.begin(), written.end(), path), written.end()) << path;
+  }
+  // One CSV row per method and level; each names a mesh file that has exactly its face count.
+  const std::vector<std::string> csv = lines_of(dir + "/results.csv");
+  ASSERT_EQ(csv.size(), 1u + 4u);
+  for (const std::vector<CompareLevel>* levels : {&r.qb, &r.vg}) {
+    for (const CompareLevel& l : *levels) {
+      const std::string mesh = dir + "/" + (levels == &r.qb ? "qb_" : "vg_") + std::to_string(l.faces) + ".ply";
+      EXPECT_EQ(read_mesh(mesh).num_faces(), l.faces);
+      EXPECT_LE(l.faces, l.target);
+      EXPECT_GT(l.image.rms, 0.0);
+      EXPECT_GT(l.distance.hausdorff, 0.0);
+    }
+  }
+  EXPECT_LT(r.qb[0].image.rms, r.qb[1].image.rms);  // fewer faces, more error
+  std::ostringstream row;
+  row << "QB," << r.qb[0].target << "," << r.qb[0].faces << ",";
+  EXPECT_EQ(csv[1].rfind(row.str(), 0), 0u) << csv[1];
+  // The JSON carries the Table 2 number the text prints.
+  std::ifstream json(dir + "/results.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"less_image_error_with_vg_percent\""), std::string::npos);
+  EXPECT_NE(table2_row(r, "bunny").find("| bunny | 3674 |"), std::string::npos);
+  const std::string html = lines_of(dir + "/report.html").front();
+  EXPECT_EQ(html, "<!DOCTYPE html>");
+}
+
+TEST(Compare, RejectsTargetsAtOrAboveTheInput) {
+  const Mesh m = test::icosphere(2);
+  const auto renderer = make_raster_renderer({64, 0});
+  EXPECT_THROW(compare_methods(m, octahedron_cameras(0), *renderer, quick_options({m.num_faces()})), UsageError);
+  EXPECT_THROW(compare_methods(m, octahedron_cameras(0), *renderer, quick_options({2})), UsageError);
+}
+
+}  // namespace
+}  // namespace visimp
