@@ -29,7 +29,8 @@ class App : public ::testing::Test {
 
 TEST_F(App, HelpEverywhereExitsZero) {
   for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help", "visibility --help",
-                          "visibility-merge --help", "visibility-study --help", "metro --help", "imgerr --help"}) {
+                          "visibility-merge --help", "visibility-study --help", "metro --help", "imgerr --help",
+                          "compare --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -185,6 +186,45 @@ TEST_F(App, MetroAndImageErrorReportAPair) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/diff19.png"));
   // V-weighted needs V on A.
   EXPECT_EQ(run("metro " + bunny + " " + dir + "/small.ply --visible", dir).code, 1);
+}
+
+TEST_F(App, SimplifyVgWritesEveryLevelAndDropsHiddenFaces) {
+  const std::string esp = test::bundled_mesh("kicad_esp_wroom02.ply");
+  const AppRun r = run("simplify " + esp + " " + dir + "/esp.ply --method vg --drop-hidden --levels 3 --cameras 66 "
+                       "--resolution 256 --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"method\": \"vg\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"faces_removed\""), std::string::npos) << r.out;
+  // Three snapshots named by their face counts, each a valid mesh of that count.
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("esp_", 0) != 0) continue;
+    ++files;
+    const std::size_t faces = std::stoul(name.substr(4, name.size() - 8));
+    EXPECT_EQ(read_mesh(entry.path().string()).num_faces(), faces) << name;
+  }
+  EXPECT_EQ(files, 3u);
+  // VG without V anywhere is refused before any work.
+  const AppRun bad = run("simplify " + bunny + " " + dir + "/b.ply --ratio 0.5 --method vg --weights-from-quality", dir);
+  EXPECT_EQ(bad.code, 1) << bad.err;
+  EXPECT_NE(bad.err.find("bunny.ply"), std::string::npos) << bad.err;
+  EXPECT_EQ(run("simplify " + bunny + " - --levels 3 --format ply", dir).code, 2);
+}
+
+TEST_F(App, CompareWritesTheReportAndTheTableRow) {
+  const AppRun r = run("compare " + bunny + " -o " + dir + "/cmp --targets 1000,300 --cameras 18 --resolution 128 "
+                       "--metro-samples 100000 --image-resolution 64 --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"less_image_error_with_vg_percent\""), std::string::npos) << r.out;
+  for (const char* f : {"report.html", "results.csv", "results.json", "image_error_vs_seconds.svg", "visibility.png",
+                        "side_by_side.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/cmp/" + f)) << f;
+  const AppRun text = run("compare " + bunny + " -o " + dir + "/cmp2 --targets 500 --cameras 6 --resolution 64 "
+                          "--metro-samples 10000 --image-resolution 32", dir);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("| bunny | 3674 |"), std::string::npos) << text.out;
+  EXPECT_EQ(run("compare " + bunny + " --targets 9999", dir).code, 2);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
 #include "visimp/core/union_find.h"
+#include "visimp/core/validate.h"
 #include "visimp/io/mesh_io.h"
 
 namespace visimp {
@@ -61,6 +62,31 @@ TEST(Visibility, SphereSealedInABoxIsInvisible) {
   const Visibility v = measure(scene);
   for (std::size_t f = sphere_first; f < scene.num_faces(); ++f) ASSERT_EQ(v.face[f], 0.0f) << "sphere face " << f;
   for (std::size_t f = 0; f < sphere_first; ++f) ASSERT_GT(v.face[f], 0.99f) << "box face " << f;
+}
+
+TEST(DropHidden, RemovesExactlyTheNeverSeenFacesAndLeavesAValidMesh) {
+  Mesh scene = translated(scaled(test::subdivided_cube(6), 4.0), {-2, -2, -2});
+  const std::size_t sphere_first = append(scene, test::icosphere(3));
+  scene.face_quality.assign(scene.num_faces(), 0.5f);
+  const Visibility v = measure(scene);
+  const HiddenRemoval r = drop_hidden_faces(scene, v.face, 0.0);
+  // The box, and nothing else, survives: same faces, same positions, in input order.
+  EXPECT_EQ(r.faces_removed, scene.num_faces() - sphere_first);
+  ASSERT_EQ(r.mesh.num_faces(), sphere_first);
+  const Mesh box = translated(scaled(test::subdivided_cube(6), 4.0), {-2, -2, -2});
+  EXPECT_TRUE(r.mesh.faces == box.faces);
+  EXPECT_TRUE(r.mesh.positions == box.positions);
+  EXPECT_EQ(r.mesh.face_quality.size(), r.mesh.num_faces());
+  EXPECT_NO_THROW(require_valid(r.mesh, "dropped"));
+  const double sphere_area = analyze(test::icosphere(3)).area, box_area = analyze(box).area;
+  EXPECT_NEAR(r.area_removed, sphere_area, 1e-9);
+  EXPECT_NEAR(r.area_fraction_removed, sphere_area / (sphere_area + box_area), 1e-12);
+  // A threshold keeps only faces above it; bad thresholds and sizes are usage errors.
+  std::vector<float> graded(scene.num_faces(), 0.3f);
+  graded[0] = 0.9f;
+  EXPECT_EQ(drop_hidden_faces(scene, graded, 0.5).mesh.num_faces(), 1u);
+  EXPECT_THROW(drop_hidden_faces(scene, graded, 1.0), UsageError);
+  EXPECT_THROW(drop_hidden_faces(scene, {}, 0.0), UsageError);
 }
 
 TEST(Visibility, InsideOfABowlIsLessVisibleThanOutside) {
