@@ -162,25 +162,13 @@ RgbImage grey_picture(const Mesh& m, int size) {
   return render_face_colors(m, std::vector<Rgb>(m.num_faces(), Rgb{200, 200, 200}), size);
 }
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
-
 std::string html(const CompareResult& r, const std::string& input_name, std::size_t middle) {
   std::ostringstream s;
   s.precision(4);
-  s << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>visimp compare: " << html_escape(input_name)
+  s << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>visimp compare: " << xml_escape(input_name)
     << "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:72em}table{border-collapse:collapse}"
        "td,th{border:1px solid #bbb;padding:.2em .6em;text-align:right}img{max-width:100%}</style></head><body>\n"
-    << "<h1>QB vs VG: " << html_escape(input_name) << "</h1>\n"
+    << "<h1>QB vs VG: " << xml_escape(input_name) << "</h1>\n"
     << "<p>" << r.faces_in << " faces; V(M) = " << r.visibility.mesh << "; hidden area "
     << 100.0 * r.visibility.stats.hidden_area_fraction << "%; visibility " << r.seconds_visibility
     << " s; QB run " << r.seconds_qb << " s; VG run " << r.seconds_vg << " s.</p>\n"

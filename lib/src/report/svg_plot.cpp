@@ -13,18 +13,6 @@ namespace {
 constexpr double kWidth = 640, kHeight = 420, kLeft = 70, kRight = 160, kTop = 40, kBottom = 50;
 const char* const kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
-
 std::string number(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.3g", v);
@@ -102,7 +90,7 @@ void SvgPlot::write(std::ostream& out) const {
   out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   out << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  out << "<text x=\"" << kWidth / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape(title)
+  out << "<text x=\"" << kWidth / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << xml_escape(title)
       << "</text>\n";
   out << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << plot_w << "\" height=\"" << plot_h
       << "\" fill=\"none\" stroke=\"black\"/>\n";
@@ -117,9 +105,9 @@ void SvgPlot::write(std::ostream& out) const {
         << number(t) << "</text>\n";
   }
   out << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << kHeight - 12 << "\" text-anchor=\"middle\">"
-      << escape(x_label) << "</text>\n";
+      << xml_escape(x_label) << "</text>\n";
   out << "<text transform=\"translate(16," << kTop + plot_h / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
-      << escape(y_label) << "</text>\n";
+      << xml_escape(y_label) << "</text>\n";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const PlotSeries& s = series[i];
     const char* color = kColors[i % (sizeof kColors / sizeof kColors[0])];
@@ -131,16 +119,28 @@ void SvgPlot::write(std::ostream& out) const {
       out << "<circle cx=\"" << px(x) << "\" cy=\"" << py(y) << "\" r=\"3.5\" fill=\"" << color << "\"/>\n";
       if (k < s.point_labels.size()) {
         out << "<text x=\"" << px(x) + 6 << "\" y=\"" << py(y) - 6 << "\" font-size=\"10\">"
-            << escape(s.point_labels[k]) << "</text>\n";
+            << xml_escape(s.point_labels[k]) << "</text>\n";
       }
     }
     out << "<path d=\"" << path << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"1.5\"/>\n";
     const double ly = kTop + 10 + 18.0 * static_cast<double>(i);
     out << "<rect x=\"" << kLeft + plot_w + 12 << "\" y=\"" << ly - 8 << "\" width=\"10\" height=\"10\" fill=\""
-        << color << "\"/><text x=\"" << kLeft + plot_w + 28 << "\" y=\"" << ly + 1 << "\">" << escape(s.label)
+        << color << "\"/><text x=\"" << kLeft + plot_w + 28 << "\" y=\"" << ly + 1 << "\">" << xml_escape(s.label)
         << "</text>\n";
   }
   out << "</svg>\n";
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
 }
 
 }  // namespace visimp

@@ -23,4 +23,7 @@ struct SvgPlot {
   void write(std::ostream& out) const;
 };
 
+/// `s` with <, >, & and " escaped, for SVG and HTML text and attributes.
+std::string xml_escape(const std::string& s);
+
 }  // namespace visimp
