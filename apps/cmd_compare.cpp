@@ -76,7 +76,11 @@ int run_compare(const Args& args) {
   CompareResult result;
   {
     CompareProgress progress;
-    result = compare_methods(mesh, cameras, *renderer, options, &progress);
+    try {
+      result = compare_methods(mesh, cameras, *renderer, options, &progress);
+    } catch (const InvalidMeshError& e) {  // name the file: the library does not know it
+      throw InvalidMeshError(in + ": " + e.what());
+    }
   }
   const std::vector<std::string> written = write_compare_report(result, mesh, in, directory);
   const std::string name = in == "-" ? "stdin" : std::filesystem::path(in).stem().string();

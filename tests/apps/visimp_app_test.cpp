@@ -225,6 +225,10 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
   ASSERT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("| bunny | 3674 |"), std::string::npos) << text.out;
   EXPECT_EQ(run("compare " + bunny + " --targets 9999", dir).code, 2);
+  const AppRun no_quality = run("compare " + bunny + " --weights-from-quality -o " + dir + "/cmp3", dir);
+  EXPECT_EQ(no_quality.code, 1);
+  EXPECT_NE(no_quality.err.find("bunny.ply: "), std::string::npos) << no_quality.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/cmp3"));
 }
 
 }  // namespace
