@@ -175,8 +175,9 @@ void ClosestTriangleIndex::squared_distances(const Vec3* points, std::size_t n, 
     Vec3 lo, hi;  // the triangle's box, absolute
     std::uint32_t index;
   };
-  std::vector<Candidate> candidates;
-  std::vector<std::uint32_t> stack;
+  // Scratch reused across calls (one call per sampled face): no allocation in the query loop.
+  thread_local std::vector<Candidate> candidates;
+  thread_local std::vector<std::uint32_t> stack;
   for (std::size_t g = 0; g < n; g += kGroup) {
     const std::size_t end = std::min(n, g + kGroup);
     squared[g] = squared_distance(points[g], hint);
