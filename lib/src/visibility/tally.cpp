@@ -8,63 +8,13 @@
 
 #include "visimp/core/errors.h"
 #include "visimp/io/atomic_file.h"
+#include "visimp/io/byte_stream.h"
 #include "visimp/io/mesh_io.h"
 
 namespace visimp {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'I', 'S', 'I', 'M', 'P', 'T', '1'};
-
-// Explicit little-endian encoding: slices may travel between machines.
-class ByteWriter {
- public:
-  void u32(std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-  }
-  void u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-  }
-  void f64(double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, 8);
-    u64(bits);
-  }
-  std::string bytes;
-};
-
-class ByteReader {
- public:
-  ByteReader(const std::string& path, const std::string& bytes) : path_(path), bytes_(bytes) {}
-  std::uint64_t u64() { return read(8); }
-  std::uint32_t u32() { return static_cast<std::uint32_t>(read(4)); }
-  double f64() {
-    const std::uint64_t bits = u64();
-    double v;
-    std::memcpy(&v, &bits, 8);
-    return v;
-  }
-  std::size_t remaining() const { return bytes_.size() - pos_; }
-  void expect_magic() {
-    if (bytes_.size() < 8 || std::memcmp(bytes_.data(), kMagic, 8) != 0) {
-      throw IoError(path_, "not a visimp visibility tally (bad magic)");
-    }
-    pos_ = 8;
-  }
-
- private:
-  std::uint64_t read(int n) {
-    if (remaining() < static_cast<std::size_t>(n)) {
-      throw IoError(path_, "truncated tally at byte " + std::to_string(pos_));
-    }
-    std::uint64_t v = 0;
-    for (int i = 0; i < n; ++i) v |= std::uint64_t{static_cast<unsigned char>(bytes_[pos_ + i])} << (8 * i);
-    pos_ += static_cast<std::size_t>(n);
-    return v;
-  }
-  const std::string& path_;
-  const std::string& bytes_;
-  std::size_t pos_ = 0;
-};
 
 }  // namespace
 
@@ -157,8 +107,8 @@ void VisibilityTally::write(const std::string& path) const {
 
 VisibilityTally VisibilityTally::read(const std::string& path) {
   const std::string bytes = read_file_bytes(path);
-  ByteReader r(path, bytes);
-  r.expect_magic();
+  ByteReader r(path, bytes, "tally");
+  r.expect_magic(kMagic, "visimp visibility tally");
   VisibilityTally t;
   t.key.mesh_hash = r.u64();
   t.key.camera_hash = r.u64();

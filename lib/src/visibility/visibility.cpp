@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "visimp/core/bounding_box.h"
+#include "visimp/core/content_hash.h"
 #include "visimp/core/spatial_order.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
@@ -30,25 +31,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// FNV-1a over raw bytes: identifies a mesh or camera set in tally files.
-std::uint64_t fnv1a(std::uint64_t hash, const void* data, std::size_t size) {
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) {
-    hash ^= bytes[i];
-    hash *= 0x100000001b3ull;
-  }
-  return hash;
-}
-constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ull;
-
-std::uint64_t hash_mesh(const Mesh& mesh) {
-  std::uint64_t h = fnv1a(kFnvOffset, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
-  return fnv1a(h, mesh.faces.data(), mesh.faces.size() * sizeof(Face));
-}
-
-std::uint64_t hash_cameras(const CameraSet& cameras) {
-  return fnv1a(kFnvOffset, cameras.directions.data(), cameras.directions.size() * sizeof(Vec3));
-}
+std::uint64_t hash_cameras(const CameraSet& cameras) { return hash_directions(cameras.directions); }
 
 std::array<float, 3> to_float(const Vec3& v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
@@ -310,7 +293,7 @@ TallyKey VisibilityJob::key(const CameraSet& cameras) const {
 }
 
 VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t first, std::size_t last,
-                                      Renderer& renderer, RenderObserver* observer) const {
+                                      Renderer& renderer, RenderObserver* observer, FrameConsumer* also) const {
   if (cameras.size() == 0 || cameras.size() > VisibilityTally::kMaxCameras) {
     throw UsageError("a camera set needs 1..65536 cameras, got " + std::to_string(cameras.size()));
   }
@@ -328,9 +311,22 @@ VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t firs
   tally.seen.assign(scene_.faces.size(), 0);
   tally.total.assign(scene_.faces.size(), 0);
   TallyConsumer consumer(scene_, unit_normals_, options_);
-  renderer.render(scene_, cameras, first, last, consumer, observer);
+  if (also != nullptr) {
+    FrameFanOut both({&consumer, also});
+    renderer.render(scene_, cameras, first, last, both, observer);
+  } else {
+    renderer.render(scene_, cameras, first, last, consumer, observer);
+  }
   consumer.add_to(tally);
   return tally;
+}
+
+std::vector<std::uint32_t> VisibilityJob::scene_input_faces() const {
+  std::vector<std::uint32_t> input(scene_order_.size());
+  for (std::size_t t = 0; t < scene_order_.size(); ++t) {
+    input[t] = refined_ ? refined_->input_face[scene_order_[t]] : scene_order_[t];
+  }
+  return input;
 }
 
 Visibility VisibilityJob::finish(const VisibilityTally& tally) const {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "visimp/cameras/camera_set.h"
@@ -24,6 +25,22 @@ class FrameConsumer {
   virtual void begin(unsigned workers) = 0;
   /// Called concurrently from different workers, each with its own `worker` < workers.
   virtual void consume(const Frame& frame, std::size_t camera, unsigned worker) = 0;
+};
+
+/// Hands every frame to several consumers in turn: one rendering pass, many uses (the
+/// visibility tally and the patch bitfields read the same frames).
+class FrameFanOut final : public FrameConsumer {
+ public:
+  explicit FrameFanOut(std::vector<FrameConsumer*> consumers) : consumers_(std::move(consumers)) {}
+  void begin(unsigned workers) override {
+    for (FrameConsumer* c : consumers_) c->begin(workers);
+  }
+  void consume(const Frame& frame, std::size_t camera, unsigned worker) override {
+    for (FrameConsumer* c : consumers_) c->consume(frame, camera, worker);
+  }
+
+ private:
+  std::vector<FrameConsumer*> consumers_;
 };
 
 struct RenderOptions {

@@ -78,9 +78,10 @@ class VisibilityJob {
   /// `resolution` fixes l; the renderer passed to render() must use the same resolution.
   VisibilityJob(const Mesh& mesh, int resolution, const VisibilityOptions& options);
 
-  /// Tallies cameras [first, last) of `cameras`.
+  /// Tallies cameras [first, last) of `cameras`. `also`, when given, receives the same
+  /// frames (of scene(); see scene_input_faces()).
   VisibilityTally render(const CameraSet& cameras, std::size_t first, std::size_t last, Renderer& renderer,
-                         RenderObserver* observer = nullptr) const;
+                         RenderObserver* observer = nullptr, FrameConsumer* also = nullptr) const;
 
   /// V from a complete tally (throws UsageError if cameras are missing or the key differs).
   Visibility finish(const VisibilityTally& tally) const;
@@ -91,6 +92,8 @@ class VisibilityJob {
   std::uint64_t mesh_hash() const { return mesh_hash_; }
   /// The refined faces in render order: feed it to other FrameConsumers for one sampling.
   const RenderScene& scene() const { return scene_; }
+  /// For each face of scene(): the input face it is (part of).
+  std::vector<std::uint32_t> scene_input_faces() const;
 
  private:
   const Mesh& input_;
