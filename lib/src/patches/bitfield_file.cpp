@@ -51,6 +51,7 @@ void decompress_words(ByteReader& in, std::vector<std::uint64_t>& words, std::si
 }  // namespace
 
 BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string& path, bool compress) {
+  // (`compress` is cleared below when coding would not make the rows smaller.)
   if (set.bits.cameras != set.cameras.size() || (!set.per_face && set.face_patch.size() != set.faces) ||
       (set.per_face && set.bits.units != set.faces)) {
     throw UsageError("inconsistent bitfield set: its counts do not match");
@@ -69,7 +70,13 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
   const std::size_t before = body.bytes.size();
   if (compress) {
     compress_words(set.bits.words, body);
-  } else {
+    // Rows without zero words do not shrink: then the plain words are stored.
+    if (body.bytes.size() - before >= set.bits.words.size() * 8) {
+      body.bytes.resize(before);
+      compress = false;
+    }
+  }
+  if (!compress) {
     for (std::uint64_t w : set.bits.words) body.u64(w);
   }
   sizes.bitfields = body.bytes.size() - before;

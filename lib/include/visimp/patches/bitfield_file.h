@@ -39,7 +39,8 @@ struct BitfieldFileSizes {
   std::uint64_t bitfields_uncompressed = 0;  ///< cameras × words × 8
 };
 
-/// Writes atomically; with `compress`, rows are stored as zero-word runs and literal words.
+/// Writes atomically; with `compress`, rows are stored as zero-word runs and literal words
+/// (unless that is not smaller: then as plain words, and the file says so).
 BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string& path, bool compress);
 /// Throws IoError naming the file for a wrong magic or version, truncation, a checksum
 /// mismatch or inconsistent counts.
