@@ -18,5 +18,6 @@ int run_visibility_study(const Args& args);
 int run_metro(const Args& args);
 int run_imgerr(const Args& args);
 int run_compare(const Args& args);
+int run_patches(const Args& args);
 
 }  // namespace visimp::app

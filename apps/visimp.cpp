@@ -22,6 +22,7 @@ constexpr const char* kUsage =
     "  visibility-study IN        visibility error vs cameras and seconds (the paper's Fig. 3)\n"
     "  metro A B                  sampled surface distances both ways: Hausdorff, mean, RMS, histogram\n"
     "  imgerr A B                 image RMS error over 20 flat-shaded views (Zhang & Turk eq. 5.11)\n"
+    "  patches build|query|study  patch bitfields and view reconstruction from the same sampling\n"
     "\n"
     "'visimp COMMAND --help' describes each command.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
     if (command == "metro") return app::run_metro(args);
     if (command == "imgerr") return app::run_imgerr(args);
     if (command == "compare") return app::run_compare(args);
+    if (command == "patches") return app::run_patches(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const UsageError& e) {
     std::cerr << "visimp " << command << ": error: " << e.what() << "\n";

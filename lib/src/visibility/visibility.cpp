@@ -18,6 +18,7 @@
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/content_hash.h"
+#include "visimp/core/face_subset.h"
 #include "visimp/core/spatial_order.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
@@ -454,34 +455,20 @@ HiddenRemoval drop_hidden_faces(const Mesh& mesh, const std::vector<float>& face
   }
   if (!(threshold >= 0 && threshold < 1)) throw UsageError("--drop-hidden threshold must be in [0, 1)");
   HiddenRemoval r;
-  // Vertices only dropped faces used go too; the rest (isolated ones included) stay, in order.
-  std::vector<std::uint8_t> used(mesh.num_vertices(), 0);  // bit 0: by any face, bit 1: by a kept face
+  std::vector<std::uint8_t> keep(mesh.num_faces(), 0);
   double total_area = 0;
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    const Face& face = mesh.faces[f];
-    const double area = 0.5 * norm(face_normal_unnormalized(mesh, face));
+    const double area = 0.5 * norm(face_normal_unnormalized(mesh, mesh.faces[f]));
     total_area += area;
-    const bool keep = face_visibility[f] > threshold;
-    if (!keep) {
+    keep[f] = face_visibility[f] > threshold;
+    if (keep[f]) {
+      r.face_visibility.push_back(face_visibility[f]);
+    } else {
       ++r.faces_removed;
       r.area_removed += area;
     }
-    for (VertexIndex v : face) used[v] |= static_cast<std::uint8_t>(keep ? 3 : 1);
   }
-  std::vector<VertexIndex> remap(mesh.num_vertices(), 0);
-  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
-    if (used[v] == 1) continue;
-    remap[v] = static_cast<VertexIndex>(r.mesh.positions.size());
-    r.mesh.positions.push_back(mesh.positions[v]);
-    if (mesh.has_vertex_quality()) r.mesh.vertex_quality.push_back(mesh.vertex_quality[v]);
-  }
-  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    if (!(face_visibility[f] > threshold)) continue;
-    const Face& face = mesh.faces[f];
-    r.mesh.faces.push_back({remap[face[0]], remap[face[1]], remap[face[2]]});
-    r.face_visibility.push_back(face_visibility[f]);
-    if (mesh.has_face_quality()) r.mesh.face_quality.push_back(mesh.face_quality[f]);
-  }
+  r.mesh = keep_faces(mesh, keep);
   r.area_fraction_removed = total_area > 0 ? r.area_removed / total_area : 0.0;
   return r;
 }
