@@ -13,8 +13,8 @@ namespace visimp {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'I', 'S', 'I', 'M', 'P', 'B', 'F'};
-constexpr std::uint32_t kCompressed = 1, kPerFace = 2, kNeighbourFill = 4;
-constexpr std::size_t kHeaderBytes = 112;
+constexpr std::uint32_t kCompressed = 1, kPerFace = 2, kNeighbourFill = 4, kMapRuns = 8;
+constexpr std::size_t kHeaderBytes = 120;
 
 // Zero-run coding of the rows taken as one word sequence: repeated (zero words, literal
 // words, the literals). A lone zero costs two bytes instead of eight.
@@ -48,6 +48,27 @@ void decompress_words(ByteReader& in, std::vector<std::uint64_t>& words, std::si
   }
 }
 
+// The face→patch map as (patch, run length) varint pairs: faces of one patch often follow
+// each other in a mesh's face order.
+void write_map_runs(const std::vector<std::uint32_t>& map, ByteWriter& out) {
+  for (std::size_t i = 0; i < map.size();) {
+    std::size_t j = i + 1;
+    while (j < map.size() && map[j] == map[i]) ++j;
+    out.varint(map[i]);
+    out.varint(j - i);
+    i = j;
+  }
+}
+
+void read_map_runs(ByteReader& in, std::vector<std::uint32_t>& map, std::uint64_t units, const std::string& path) {
+  for (std::size_t i = 0; i < map.size();) {
+    const std::uint64_t patch = in.varint(), run = in.varint();
+    if (patch >= units || run == 0 || run > map.size() - i) throw IoError(path, "malformed face→patch runs");
+    std::fill_n(map.begin() + static_cast<std::ptrdiff_t>(i), run, static_cast<std::uint32_t>(patch));
+    i += run;
+  }
+}
+
 }  // namespace
 
 BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string& path, bool compress) {
@@ -65,9 +86,15 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
   }
   BitfieldFileSizes sizes;
   sizes.directions = body.bytes.size();
-  for (std::uint32_t p : set.face_patch) body.u32(p);
-  sizes.patch_map = set.face_patch.size() * 4;
-  const std::size_t before = body.bytes.size();
+  std::size_t before = body.bytes.size();
+  write_map_runs(set.face_patch, body);
+  const bool map_runs = body.bytes.size() - before < set.face_patch.size() * 4;
+  if (!map_runs) {
+    body.bytes.resize(before);
+    for (std::uint32_t p : set.face_patch) body.u32(p);
+  }
+  sizes.patch_map = body.bytes.size() - before;
+  before = body.bytes.size();
   if (compress) {
     compress_words(set.bits.words, body);
     // Rows without zero words do not shrink: then the plain words are stored.
@@ -85,7 +112,8 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
   ByteWriter head;
   head.bytes.assign(kMagic, kMagic + 8);
   head.u32(BitfieldSet::kVersion);
-  head.u32((compress ? kCompressed : 0) | (set.per_face ? kPerFace : 0) | (set.neighbour_fill ? kNeighbourFill : 0));
+  head.u32((compress ? kCompressed : 0) | (set.per_face ? kPerFace : 0) | (set.neighbour_fill ? kNeighbourFill : 0) |
+           (map_runs ? kMapRuns : 0));
   head.u64(set.mesh_hash);
   head.u64(set.faces);
   head.u64(set.bits.units);
@@ -97,6 +125,7 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
   head.f64(set.center.y);
   head.f64(set.center.z);
   head.f64(set.radius);
+  head.u64(sizes.patch_map);
   head.u64(sizes.bitfields);
   head.u64(fnv1a(kFnvOffset, body.bytes.data(), body.bytes.size()));
   sizes.header = head.bytes.size();
@@ -129,7 +158,7 @@ BitfieldSet read_bitfield_file(const std::string& path) {
   const std::uint32_t name_length = r.u32();
   set.center = {r.f64(), r.f64(), r.f64()};
   set.radius = r.f64();
-  const std::uint64_t bitfield_bytes = r.u64(), checksum = r.u64();
+  const std::uint64_t map_bytes = r.u64(), bitfield_bytes = r.u64(), checksum = r.u64();
   if (r.position() != kHeaderBytes) throw std::logic_error("bitfield header size");
 
   const std::size_t body = r.remaining();
@@ -137,10 +166,12 @@ BitfieldSet read_bitfield_file(const std::string& path) {
     throw IoError(path, "checksum mismatch: the bitfield file is damaged");
   }
   if (cameras == 0 || cameras > 65536 || units > set.faces || (set.per_face && units != set.faces) ||
-      set.faces > body || !std::isfinite(set.radius) || !(set.radius > 0) || set.transparent_faces > set.faces) {
+      set.faces > 0xffffffffull || !std::isfinite(set.radius) || !(set.radius > 0) || set.transparent_faces > set.faces) {
     throw IoError(path, "inconsistent counts in the bitfield header");
   }
-  const std::uint64_t map_bytes = set.per_face ? 0 : set.faces * 4;
+  if ((set.per_face && map_bytes != 0) || (!set.per_face && !(flags & kMapRuns) && map_bytes != set.faces * 4)) {
+    throw IoError(path, "the face→patch map has the wrong size");
+  }
   if (name_length + cameras * 24 + map_bytes + bitfield_bytes != body) {
     throw IoError(path, "the bitfield file's size does not match its header");
   }
@@ -152,10 +183,16 @@ BitfieldSet read_bitfield_file(const std::string& path) {
   }
   if (!set.per_face) {
     set.face_patch.resize(set.faces);
-    for (std::uint32_t& p : set.face_patch) {
-      p = r.u32();
-      if (p >= units) throw IoError(path, "a face's patch number is out of range");
+    const std::size_t map_end = r.position() + map_bytes;
+    if (flags & kMapRuns) {
+      read_map_runs(r, set.face_patch, units, path);
+    } else {
+      for (std::uint32_t& p : set.face_patch) {
+        p = r.u32();
+        if (p >= units) throw IoError(path, "a face's patch number is out of range");
+      }
     }
+    if (r.position() != map_end) throw IoError(path, "the face→patch map has the wrong size");
   }
   set.bits = Bitfields(units, cameras);
   if (flags & kCompressed) {
