@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "app_runner.h"
@@ -30,7 +31,8 @@ class App : public ::testing::Test {
 TEST_F(App, HelpEverywhereExitsZero) {
   for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help", "visibility --help",
                           "visibility-merge --help", "visibility-study --help", "metro --help", "imgerr --help",
-                          "compare --help"}) {
+                          "compare --help", "patches --help", "patches build --help", "patches query --help",
+                          "patches study --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -229,6 +231,55 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
   EXPECT_EQ(no_quality.code, 1);
   EXPECT_NE(no_quality.err.find("bunny.ply: "), std::string::npos) << no_quality.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/cmp3"));
+}
+
+TEST_F(App, PatchesBuildQueryAndStudy) {
+  const std::string vbf = dir + "/bunny.vbf";
+  const AppRun build = run("patches build " + bunny + " -o " + vbf + " --patches 120 --cameras 66 --resolution 160 "
+                           "--patch-ply " + dir + "/patches.ply --patch-png " + dir + "/patches.png --visibility " +
+                           dir + "/v.ply --json", dir);
+  ASSERT_EQ(build.code, 0) << build.err;
+  EXPECT_NE(build.out.find("\"units\": 120"), std::string::npos) << build.out;
+  EXPECT_NE(build.out.find("\"mesh_visibility\""), std::string::npos) << build.out;
+  EXPECT_EQ(read_mesh(dir + "/patches.ply").face_quality.size(), 3674u);
+  EXPECT_EQ(read_mesh(dir + "/v.ply").face_quality.size(), 3674u);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/patches.png"));
+
+  // One patch number per line, then the culled mesh: exactly the faces of those patches.
+  const AppRun listed = run("patches query " + vbf + " --direction 0,0,1", dir);
+  ASSERT_EQ(listed.code, 0) << listed.err;
+  std::set<int> patches;
+  std::istringstream lines(listed.out);
+  for (int p; lines >> p;) patches.insert(p);
+  EXPECT_GT(patches.size(), 20u);
+  EXPECT_LT(patches.size(), 120u);
+  const AppRun culled = run("patches query " + vbf + " --direction 0,0,1 --mesh " + bunny + " -o " + dir + "/c.ply", dir);
+  ASSERT_EQ(culled.code, 0) << culled.err;
+  const Mesh tagged = read_mesh(dir + "/patches.ply");
+  std::size_t expected = 0;
+  for (float q : tagged.face_quality) expected += patches.count(static_cast<int>(q));
+  EXPECT_EQ(read_mesh(dir + "/c.ply").num_faces(), expected);
+
+  // The wrong mesh, a missing view and a damaged file are refused.
+  const AppRun wrong = run("patches query " + vbf + " --direction 0,0,1 --mesh " + dir + "/c.ply -o " + dir + "/x.ply", dir);
+  EXPECT_EQ(wrong.code, 1);
+  EXPECT_NE(wrong.err.find("belongs to another mesh"), std::string::npos) << wrong.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
+  EXPECT_EQ(run("patches query " + vbf, dir).code, 2);
+  EXPECT_EQ(run("patches query " + bunny + " --direction 1,0,0", dir).code, 1);
+  EXPECT_EQ(run("patches build " + bunny + " -o " + bunny, dir).code, 2);
+
+  const AppRun study = run("patches study " + bunny + " -o " + dir + "/study --patch-counts 30,300 --max-cameras 66 "
+                           "--viewpoints 50 --pixel-views 3 --resolution 96 --timing-backend none", dir);
+  ASSERT_EQ(study.code, 0) << study.err;
+  EXPECT_NE(study.out.find("300 patches"), std::string::npos) << study.out;
+  for (const char* f : {"study.csv", "study.json", "culling_vs_samples.svg", "culling_vs_patches.svg"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/study/" + f)) << f;
+  // 3 units × 3 camera levels (6, 18, 66) + 3 pixel rows + the header.
+  std::istringstream csv(test::slurp(dir + "/study/study.csv"));
+  std::size_t rows = 0;
+  for (std::string line; std::getline(csv, line);) ++rows;
+  EXPECT_EQ(rows, 1u + 3u * 3u + 3u);
 }
 
 }  // namespace
