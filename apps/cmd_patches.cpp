@@ -61,7 +61,7 @@ int run_build(const Args& args) {
   PatchOptions patches;
   StreamOptions stream;
   std::string out, transparent_path, patch_ply, patch_png, visibility_out;
-  bool per_face = false, neighbour_fill = false, no_compress = false;
+  bool per_face = false, neighbour_fill = false, no_compress = false, depth_test = true;
   ArgParser parser("visimp patches build IN [-o OUT.vbf] [--patches N] [--cameras SET] [options]",
                    "Tiles IN into patches (smallest first, fused with the neighbour that keeps the bounding box\n"
                    "smallest), renders it from every camera with each face's ID and records one bit per patch per\n"
@@ -72,6 +72,8 @@ int run_build(const Args& args) {
   parser.add(describe_options(patches));
   parser.add(option_spec("-o", "OUT.vbf", out, "the bitfield file (docs/formats.md)"));
   parser.add(switch_spec("--per-face", per_face, "one bit per face (ID-bitfields) instead of per patch"));
+  parser.add(negated_switch_spec("--no-depth-test", depth_test,
+                                 "do not set faces that own no pixel but have a vertex at the visible depth"));
   parser.add(switch_spec("--neighbour-fill", neighbour_fill,
                          "also set faces that own no pixel but face the camera next to a face that does"));
   parser.add(option_spec("--transparent-faces", "FILE", transparent_path,
@@ -100,6 +102,7 @@ int run_build(const Args& args) {
   const double read_seconds = seconds_since(t);
   BitfieldOptions options;
   options.neighbour_fill = neighbour_fill;
+  options.depth_test = depth_test;
   if (!transparent_path.empty()) options.transparent = read_face_list(transparent_path, mesh.num_faces());
 
   t = Clock::now();
@@ -111,6 +114,7 @@ int run_build(const Args& args) {
   set.faces = mesh.num_faces();
   set.per_face = per_face;
   set.neighbour_fill = neighbour_fill;
+  set.depth_test = depth_test;
   for (std::uint8_t flag : options.transparent) set.transparent_faces += flag;
   set.resolution = static_cast<std::uint32_t>(renderer->resolution());
   const BoundingBox box = bounding_box(mesh);
@@ -128,7 +132,7 @@ int run_build(const Args& args) {
     } else {
       // One pass: the tally and the bitfields read the same frames.
       const VisibilityJob job(mesh, renderer->resolution(), VisibilityOptions{});
-      BitfieldRecorder recorder(mesh, job.scene_input_faces(), partition, cameras.size(), options);
+      BitfieldRecorder recorder(mesh, job.scene(), job.scene_input_faces(), partition, cameras.size(), options);
       const VisibilityTally tally = job.render(cameras, 0, cameras.size(), *renderer, &progress, &recorder);
       set.bits = recorder.finish();
       visibility = job.finish(tally);
@@ -167,7 +171,7 @@ int run_build(const Args& args) {
     json.field("units", partition.patch_count()).field("components", partition.components);
     json.field("camera_set", cameras.name).field("cameras", cameras.size());
     json.field("resolution", static_cast<std::int64_t>(set.resolution)).field("backend", renderer->name());
-    json.field("neighbour_fill", neighbour_fill).field("transparent_faces", set.transparent_faces);
+    json.field("neighbour_fill", neighbour_fill).field("depth_test", depth_test).field("transparent_faces", set.transparent_faces);
     json.field("mean_units_seen_per_camera", mean_seen);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
     json.key("bytes").begin_object()
@@ -293,6 +297,7 @@ int run_study(const Args& args) {
   parser.add(option_spec("--timing-frames", "N", options.timing_frames, "frames timed per viewpoint and mesh"));
   parser.add(option_spec("--timing-backend", "NAME", timing, "osmesa, raster, or none (no frame times)"));
   parser.add(switch_spec("--neighbour-fill", options.neighbour_fill, "fill front-facing neighbours of seen faces"));
+  parser.add(negated_switch_spec("--no-depth-test", options.depth_test, "only faces owning a pixel are seen"));
   parser.add(option_spec("--seed", "S", options.seed, "seed of the random viewpoints"));
   std::vector<OptionSpec> render = describe_options(sampling);
   render.erase(render.begin());  // the study picks its own camera sets
@@ -345,12 +350,13 @@ int run_study(const Args& args) {
   }
   std::cout << "\nreconstruction from " << options.pixel_views << " random viewpoints\n"
             << std::setw(26) << "units" << std::setw(9) << "cameras" << std::setw(10) << "drawn" << std::setw(12)
-            << "diff px" << std::setw(10) << "worst" << std::setw(8) << "views" << std::setw(12) << "full ms"
+            << "diff px" << std::setw(10) << "depth px" << std::setw(10) << "worst" << std::setw(8) << "views" << std::setw(12) << "full ms"
             << std::setw(12) << "culled ms\n";
   for (const PixelCheck& p : study.pixels) {
     std::cout << std::setw(26) << (p.unit == "faces" ? "faces (ID-bitfields)" : std::to_string(p.patches) + " patches")
               << std::setw(9) << p.cameras << std::setw(9) << std::setprecision(1) << 100 * p.drawn_fraction << '%'
-              << std::setw(12) << p.differing_pixels << std::setw(10) << p.max_differing_pixels << std::setw(8)
+              << std::setw(12) << p.differing_pixels << std::setw(10) << p.depth_differing_pixels << std::setw(10)
+              << p.max_differing_pixels << std::setw(8)
               << p.views_with_differences << std::setw(12) << std::setprecision(2) << 1000 * p.seconds_per_frame_full
               << std::setw(11) << 1000 * p.seconds_per_frame_culled << '\n';
   }

@@ -319,7 +319,7 @@ TEST(Bitfields, RecordedInTheVisibilityPass) {
   VisibilityOptions visibility;
   visibility.refine = false;
   const VisibilityJob job(sphere, render.resolution, visibility);
-  BitfieldRecorder recorder(sphere, job.scene_input_faces(), faces, cameras.size(), {});
+  BitfieldRecorder recorder(sphere, job.scene(), job.scene_input_faces(), faces, cameras.size(), {});
   const VisibilityTally with = job.render(cameras, 0, cameras.size(), *renderer, nullptr, &recorder);
   const VisibilityTally without = job.render(cameras, 0, cameras.size(), *renderer);
   EXPECT_EQ(with.seen, without.seen);

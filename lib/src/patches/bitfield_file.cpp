@@ -13,7 +13,7 @@ namespace visimp {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'I', 'S', 'I', 'M', 'P', 'B', 'F'};
-constexpr std::uint32_t kCompressed = 1, kPerFace = 2, kNeighbourFill = 4, kMapRuns = 8;
+constexpr std::uint32_t kCompressed = 1, kPerFace = 2, kNeighbourFill = 4, kMapRuns = 8, kDepthTest = 16;
 constexpr std::size_t kHeaderBytes = 120;
 
 // Zero-run coding of the rows taken as one word sequence: repeated (zero words, literal
@@ -113,7 +113,7 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
   head.bytes.assign(kMagic, kMagic + 8);
   head.u32(BitfieldSet::kVersion);
   head.u32((compress ? kCompressed : 0) | (set.per_face ? kPerFace : 0) | (set.neighbour_fill ? kNeighbourFill : 0) |
-           (map_runs ? kMapRuns : 0));
+           (map_runs ? kMapRuns : 0) | (set.depth_test ? kDepthTest : 0));
   head.u64(set.mesh_hash);
   head.u64(set.faces);
   head.u64(set.bits.units);
@@ -150,6 +150,7 @@ BitfieldSet read_bitfield_file(const std::string& path) {
   const std::uint32_t flags = r.u32();
   set.per_face = flags & kPerFace;
   set.neighbour_fill = flags & kNeighbourFill;
+  set.depth_test = flags & kDepthTest;
   set.mesh_hash = r.u64();
   set.faces = r.u64();
   const std::uint64_t units = r.u64(), cameras = r.u64();

@@ -4,6 +4,7 @@
 // write disjoint words and need no locks; the result does not depend on the thread count.
 #include "visimp/patches/bitfields.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -23,20 +24,23 @@ std::size_t Bitfields::count(std::size_t camera) const {
   return n;
 }
 
-BitfieldRecorder::BitfieldRecorder(const Mesh& mesh, std::vector<std::uint32_t> scene_face_input,
-                                   const PatchPartition& partition, std::size_t cameras,
-                                   const BitfieldOptions& options)
-    : mesh_(mesh), scene_face_input_(std::move(scene_face_input)), partition_(partition), options_(options),
+BitfieldRecorder::BitfieldRecorder(const Mesh& mesh, const RenderScene& scene,
+                                   std::vector<std::uint32_t> scene_face_input, const PatchPartition& partition,
+                                   std::size_t cameras, const BitfieldOptions& options)
+    : mesh_(mesh), scene_faces_(scene.faces), scene_face_input_(std::move(scene_face_input)), partition_(partition), options_(options),
       bits_(partition.patch_count(), cameras) {
   if (partition.face_patch.size() != mesh.num_faces()) {
     throw UsageError("the patch partition has " + std::to_string(partition.face_patch.size()) +
                      " faces, the mesh " + std::to_string(mesh.num_faces()));
   }
+  if (scene_face_input_.size() != scene.faces.size()) {
+    throw UsageError("the scene-to-input face map does not match the scene's faces");
+  }
   if (!options_.transparent.empty() && options_.transparent.size() != mesh.num_faces()) {
     throw UsageError("the transparent-face flags do not match the mesh's face count");
   }
-  if (options_.neighbour_fill) {
-    neighbours_ = face_neighbours(mesh);
+  if (options_.neighbour_fill) neighbours_ = face_neighbours(mesh);
+  if (options_.neighbour_fill || options_.depth_test) {
     normals_.resize(mesh.num_faces());
     for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
       const Vec3 n = face_normal_unnormalized(mesh, mesh.faces[f]);
@@ -49,11 +53,35 @@ BitfieldRecorder::BitfieldRecorder(const Mesh& mesh, std::vector<std::uint32_t> 
 
 void BitfieldRecorder::begin(unsigned workers) { workers_.resize(workers); }
 
+namespace {
+
+// Per scene vertex: not behind the depth buffer by more than `tolerance` at one of the 4
+// pixel centres around its projection.
+void mark_visible_vertices(const Frame& frame, float tolerance, std::vector<std::uint8_t>& visible) {
+  const int r = frame.resolution();
+  visible.assign(frame.vertices.size(), 0);
+  for (std::size_t v = 0; v < frame.vertices.size(); ++v) {
+    const ScreenVertex& s = frame.vertices[v];
+    const int i0 = static_cast<int>(std::floor(s.x - 0.5f)), j0 = static_cast<int>(std::floor(s.y - 0.5f));
+    for (int j = j0; j <= j0 + 1 && !visible[v]; ++j) {
+      for (int i = i0; i <= i0 + 1; ++i) {
+        if (i < 0 || j < 0 || i >= r || j >= r) continue;
+        if (s.depth <= frame.depth[static_cast<std::size_t>(j) * static_cast<std::size_t>(r) + static_cast<std::size_t>(i)] + tolerance) {
+          visible[v] = 1;
+          break;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
 void BitfieldRecorder::consume(const Frame& frame, std::size_t camera, unsigned worker) {
   std::uint64_t* row = bits_.row(camera);
   const std::uint32_t* face_patch = partition_.face_patch.data();
   const std::uint32_t* input = scene_face_input_.data();
-  if (!options_.neighbour_fill) {
+  if (!options_.neighbour_fill && !options_.depth_test) {
     // Runs of one ID are common: look a face up once per run.
     std::uint32_t last = 0;
     for (std::uint32_t id : frame.ids) {
@@ -76,9 +104,21 @@ void BitfieldRecorder::consume(const Frame& frame, std::size_t camera, unsigned 
   }
   const Vec3& d = frame.view.direction;
   const float dx = static_cast<float>(d.x), dy = static_cast<float>(d.y), dz = static_cast<float>(d.z);
+  auto facing = [&](std::size_t f) { return normals_[f][0] * dx + normals_[f][1] * dy + normals_[f][2] * dz > 0; };
+  if (options_.depth_test) {
+    // Depth runs over [0, 1] across the view's 2r, one pixel across 2r/R: 1/R depth per pixel.
+    mark_visible_vertices(frame, 1.5f / static_cast<float>(frame.resolution()), w.vertex_visible);
+    for (std::size_t t = 0; t < scene_face_input_.size(); ++t) {
+      const std::uint32_t f = input[t];
+      if (seen[f] == frame_number || !facing(f)) continue;
+      const Face& face = scene_faces_[t];
+      if (w.vertex_visible[face[0]] || w.vertex_visible[face[1]] || w.vertex_visible[face[2]]) seen[f] = frame_number;
+    }
+  }
+  // Neighbour fill reads only faces seen by pixels or the depth test, never ones it filled.
   for (std::size_t f = 0; f < mesh_.num_faces(); ++f) {
     bool set = seen[f] == frame_number;
-    if (!set && normals_[f][0] * dx + normals_[f][1] * dy + normals_[f][2] * dz > 0) {
+    if (!set && options_.neighbour_fill && facing(f)) {
       for (std::uint32_t g : neighbours_[f]) {
         if (seen[g] == frame_number) {
           set = true;
@@ -112,7 +152,7 @@ Bitfields record_bitfields(const Mesh& mesh, const PatchPartition& partition, co
   // bitfield file of a mesh uses the same cameras.
   const BoundingBox box = bounding_box(mesh);
   const RenderScene scene = RenderScene::from_mesh(opaque, false, box.center(), view_radius(box));
-  BitfieldRecorder recorder(mesh, std::move(scene_face_input), partition, cameras.size(), options);
+  BitfieldRecorder recorder(mesh, scene, std::move(scene_face_input), partition, cameras.size(), options);
   renderer.render(scene, cameras, 0, cameras.size(), recorder, observer);
   return recorder.finish();
 }

@@ -112,6 +112,7 @@ PatchStudy run_patch_study(const Mesh& mesh, Renderer& sampler, Renderer* timer,
   const PatchPartition per_face = faces_as_patches(mesh);
   BitfieldOptions bit_options;
   bit_options.neighbour_fill = options.neighbour_fill;
+  bit_options.depth_test = options.depth_test;
   auto t = Clock::now();
   const Bitfields face_bits = record_bitfields(mesh, per_face, finest, sampler, bit_options, observer);
   study.seconds_sampling = seconds_since(t);
@@ -122,7 +123,13 @@ PatchStudy run_patch_study(const Mesh& mesh, Renderer& sampler, Renderer* timer,
     if (count >= mesh.num_faces()) continue;
     PatchOptions patch_options;
     patch_options.count = count;
-    configs.push_back({"patches", build_patches(mesh, patch_options)});
+    PatchPartition partition = build_patches(mesh, patch_options);
+    // Counts below the number of components all give the components: keep one of them.
+    const bool repeated = std::any_of(configs.begin(), configs.end(), [&](const Config& c) {
+      return c.partition.patch_count() == partition.patch_count();
+    });
+    if (repeated) continue;
+    configs.push_back({"patches", std::move(partition)});
     study.patch_counts.push_back(count);
     study.seconds_patches.push_back(configs.back().partition.seconds);
   }
@@ -182,6 +189,8 @@ PatchStudy run_patch_study(const Mesh& mesh, Renderer& sampler, Renderer* timer,
         for (std::size_t p = 0; p < full_ids.size(); ++p) {
           const std::uint32_t shown = frame.ids[p] == 0 ? 0 : drawn[frame.ids[p] - 1] + 1;
           differing += shown != full_ids[p];
+          check.depth_differing_pixels +=
+              shown != full_ids[p] && std::fabs(frame.depth[p] - full_frames[v].depth[p]) > 1e-5f;
           check.mesh_pixels += full_ids[p] != 0;
         }
         check.differing_pixels += differing;
@@ -240,6 +249,7 @@ void write_patch_study_json(const PatchStudy& study, std::ostream& out) {
     json.field("cameras", static_cast<std::uint64_t>(p.cameras));
     json.field("views", static_cast<std::uint64_t>(p.views));
     json.field("differing_pixels", p.differing_pixels);
+    json.field("depth_differing_pixels", p.depth_differing_pixels);
     json.field("max_differing_pixels", p.max_differing_pixels);
     json.field("views_with_differences", static_cast<std::uint64_t>(p.views_with_differences));
     json.field("mesh_pixels", p.mesh_pixels);
@@ -260,16 +270,17 @@ void write_patch_study(const PatchStudy& study, const std::string& directory) {
     AtomicFileWriter file((fs::path(directory) / "study.csv").string());
     std::ostream& out = file.stream();
     out << "kind,unit,units,cameras,culling_rate,min_culling_rate,max_culling_rate,views,differing_pixels,"
+           "depth_differing_pixels,"
            "max_differing_pixels,views_with_differences,mesh_pixels,drawn_fraction,seconds_per_frame_full,"
            "seconds_per_frame_culled\n";
     out.precision(9);
     for (const CullingPoint& c : study.culling) {
       out << "culling," << c.unit << ',' << c.patches << ',' << c.cameras << ',' << c.culling_rate << ','
-          << c.min_culling << ',' << c.max_culling << ",,,,,,,,\n";
+          << c.min_culling << ',' << c.max_culling << ",,,,,,,,,\n";
     }
     for (const PixelCheck& p : study.pixels) {
       out << "pixels," << p.unit << ',' << p.patches << ',' << p.cameras << ",,,," << p.views << ','
-          << p.differing_pixels << ',' << p.max_differing_pixels << ',' << p.views_with_differences << ','
+          << p.differing_pixels << ',' << p.depth_differing_pixels << ',' << p.max_differing_pixels << ',' << p.views_with_differences << ','
           << p.mesh_pixels << ',' << p.drawn_fraction << ',' << p.seconds_per_frame_full << ','
           << p.seconds_per_frame_culled << '\n';
     }

@@ -22,6 +22,7 @@ struct BitfieldSet {
   std::uint64_t faces = 0;          ///< its face count
   bool per_face = false;            ///< units are faces (ID-bitfields), face_patch is empty
   bool neighbour_fill = false;
+  bool depth_test = false;          ///< thin faces were set by the depth test
   std::uint64_t transparent_faces = 0;
   std::uint32_t resolution = 0;     ///< of the sampling frames
   Vec3 center;                      ///< the sampling sphere, in mesh coordinates

@@ -5,6 +5,8 @@
 // BitfieldRecorder is a FrameConsumer, so the frames that feed the visibility tally can
 // fill the bitfields in the same pass (VisibilityJob::render's `also`; FrameFanOut).
 // Options from the ID-bitfield paper:
+//   depth test (Zhang & Turk §4, on by default): thin faces, which own pixel centres in
+//     some views and not in the next, are set when a vertex is at the visible depth;
 //   neighbour fill (§3.1.1): a face that owns no pixel but shares an edge with one that
 //     does, and faces the camera, is set too (one pass per frame, from the pixel-seen faces);
 //   transparent faces (§3.4): left out of the renders (they hide nothing) and set in every
@@ -53,6 +55,10 @@ void for_each_set_bit(const std::uint64_t* words, std::size_t count, F&& f) {
 }
 
 struct BitfieldOptions {
+  /// Zhang & Turk's fix for faces too thin or small to own a pixel centre: a face turned
+  /// toward the camera is set when one of its vertices is within 1.5 pixels of depth of the
+  /// depth buffer at one of the 4 pixel centres around it.
+  bool depth_test = true;
   bool neighbour_fill = false;
   /// Empty, or one flag per input face: 1 = transparent.
   std::vector<std::uint8_t> transparent;
@@ -60,10 +66,11 @@ struct BitfieldOptions {
 
 class BitfieldRecorder final : public FrameConsumer {
  public:
-  /// `scene_face_input[t]`: the input face that scene face t is (part of); `partition` maps
-  /// input faces to units; `cameras`: rows to hold (the whole set, whatever is rendered).
-  BitfieldRecorder(const Mesh& mesh, std::vector<std::uint32_t> scene_face_input, const PatchPartition& partition,
-                   std::size_t cameras, const BitfieldOptions& options);
+  /// `scene`: what the frames show; `scene_face_input[t]`: the input face that its face t is
+  /// (part of); `partition` maps input faces to units; `cameras`: rows to hold (the whole
+  /// set, whatever is rendered). Both references must outlive the recorder.
+  BitfieldRecorder(const Mesh& mesh, const RenderScene& scene, std::vector<std::uint32_t> scene_face_input,
+                   const PatchPartition& partition, std::size_t cameras, const BitfieldOptions& options);
 
   void begin(unsigned workers) override;
   void consume(const Frame& frame, std::size_t camera, unsigned worker) override;
@@ -74,14 +81,16 @@ class BitfieldRecorder final : public FrameConsumer {
   struct Worker {
     std::vector<std::uint32_t> seen_in_frame;  // per input face: number of the last frame it owned a pixel in
     std::uint32_t frame_number = 0;
+    std::vector<std::uint8_t> vertex_visible;  // depth test: per scene vertex, this frame
   };
   const Mesh& mesh_;
+  const std::vector<Face>& scene_faces_;
   std::vector<std::uint32_t> scene_face_input_;
   const PatchPartition& partition_;
   BitfieldOptions options_;
   Bitfields bits_;
   std::vector<std::vector<std::uint32_t>> neighbours_;  // only with neighbour fill
-  std::vector<std::array<float, 3>> normals_;           // likewise
+  std::vector<std::array<float, 3>> normals_;           // with neighbour fill or the depth test
   std::vector<Worker> workers_;
 };
 

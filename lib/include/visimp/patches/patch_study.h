@@ -29,6 +29,7 @@ struct PatchStudyOptions {
   std::size_t pixel_views = 20;   ///< random viewpoints rendered full and reconstructed
   std::size_t timing_frames = 4;  ///< frames timed per viewpoint and mesh with the timing renderer
   bool neighbour_fill = false;
+  bool depth_test = true;
   std::uint64_t seed = 1;
 };
 
@@ -46,7 +47,10 @@ struct CullingPoint {
 struct PixelCheck {
   std::string unit;
   std::size_t patches = 0, cameras = 0, views = 0;
-  std::uint64_t differing_pixels = 0;   ///< summed over views
+  std::uint64_t differing_pixels = 0;   ///< face ID differs, summed over views
+  /// Of those, pixels whose depth differs too (by > 1e-5 of the view depth): holes and
+  /// faces behind them, not a coplanar face of another part winning a depth tie.
+  std::uint64_t depth_differing_pixels = 0;
   std::uint64_t max_differing_pixels = 0;  ///< in the worst view
   std::size_t views_with_differences = 0;
   std::uint64_t mesh_pixels = 0;        ///< pixels showing the full mesh, summed over views
