@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "visimp/core/content_hash.h"
+#include "visimp/core/stopwatch.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/face_subset.h"
 #include "visimp/patches/bitfield_file.h"
@@ -23,7 +24,6 @@ namespace visimp::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr const char* kPatchesUsage =
     "usage: visimp patches build|query|study ...\n"

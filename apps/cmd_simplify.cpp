@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "visimp/compare/compare.h"
+#include "visimp/core/stopwatch.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/report/json.h"
@@ -16,9 +17,6 @@
 namespace visimp::app {
 
 namespace {
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 // OUT with "_<faces>" before the extension: the name of one level's snapshot.
 std::string level_path(const std::string& out, std::size_t faces) {

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "visimp/core/errors.h"
+#include "visimp/core/stopwatch.h"
 #include "visimp/io/atomic_file.h"
 #include "visimp/report/json.h"
 #include "visimp/report/svg_plot.h"
@@ -18,9 +19,6 @@
 namespace visimp::app {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 // "a:b" → [a, b); empty → the whole set.
 std::pair<std::size_t, std::size_t> parse_camera_range(const std::string& text, std::size_t cameras) {

@@ -1,4 +1,5 @@
 #include "visimp/compare/compare.h"
+#include "visimp/core/stopwatch.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,9 +16,6 @@
 namespace visimp {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 // Forwards one stage's progress to the compare observer.
 class StageProgress final : public RenderObserver, public SimplifyObserver {

@@ -12,24 +12,13 @@
 #include "visimp/core/spatial_order.h"
 #include "closest_triangle_index.h"
 
+#include "visimp/core/portable_random.h"
+#include "visimp/core/stopwatch.h"
+
 namespace visimp {
 namespace {
 
-// splitmix64: a tiny, portable generator so samples are identical on every platform.
-class Random {
- public:
-  explicit Random(std::uint64_t seed) : state_(seed) {}
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-
- private:
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  std::uint64_t state_;
-};
+using Random = SplitMix64;
 
 // One generator per face or edge, seeded from (seed, index): the samples of an element never
 // depend on which worker draws them or in which order.
@@ -285,9 +274,6 @@ VisibleDistance summarize_visible(const SamplePlan& plan, const SampleDistances&
   return v;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 }  // namespace
 

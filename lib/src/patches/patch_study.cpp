@@ -11,6 +11,8 @@
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/content_hash.h"
 #include "visimp/core/errors.h"
+#include "visimp/core/portable_random.h"
+#include "visimp/core/stopwatch.h"
 #include "visimp/io/atomic_file.h"
 #include "visimp/patches/view_reconstruction.h"
 #include "visimp/report/json.h"
@@ -20,16 +22,6 @@ namespace visimp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-double unit_interval(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
 
 // Seconds between consecutive frames of one worker: the draw and read-back time of a frame
 // without the per-call setup (context, upload) that precedes the first.
@@ -86,10 +78,10 @@ void check_options(const PatchStudyOptions& options) {
 
 std::vector<Vec3> random_directions(std::size_t count, std::uint64_t seed) {
   std::vector<Vec3> out(count);
-  std::uint64_t state = seed;
+  SplitMix64 random(seed);
   for (Vec3& d : out) {
     // Archimedes: z uniform in [-1, 1] and a uniform angle give a uniform point on the sphere.
-    const double z = 2 * unit_interval(state) - 1, phi = 2 * M_PI * unit_interval(state);
+    const double z = 2 * random.uniform() - 1, phi = 2 * M_PI * random.uniform();
     const double r = std::sqrt(std::max(0.0, 1 - z * z));
     d = {r * std::cos(phi), r * std::sin(phi), z};
   }

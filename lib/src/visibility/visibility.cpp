@@ -11,6 +11,7 @@
 // Workers add integers into their own arrays, summed at the end: any thread count gives
 // the same bits.
 #include "visimp/visibility/visibility.h"
+#include "visimp/core/stopwatch.h"
 
 #include <algorithm>
 #include <chrono>
@@ -28,9 +29,6 @@ namespace visimp {
 namespace {
 
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 std::uint64_t hash_cameras(const CameraSet& cameras) { return hash_directions(cameras.directions); }
 
