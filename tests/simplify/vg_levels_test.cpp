@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "test_meshes.h"
+#include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/simplify/simplify.h"
@@ -61,6 +64,55 @@ TEST(VisibilityGuided, HiddenFacesAreCollapsedFirst) {
   const Mesh kept = simplify(with_quality, vg).mesh;
   for (std::size_t f = 0; f < kept.num_faces(); ++f)
     EXPECT_EQ(kept.face_quality[f], kept.positions[kept.faces[f][0]].x < 1.5 ? 1.0f : 0.0f);
+}
+
+// A uniform V scales every cost by the same power of two here, so any exponent orders the
+// queue exactly as QB does.
+TEST(VisibilityGuided, ExponentOnlyMattersWhereVisibilityVaries) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  SimplifyOptions qb;
+  qb.target_faces = 700;
+  const Mesh reference = simplify(bunny, qb).mesh;
+  for (double exponent : {1.0, 2.0, 3.0}) {
+    SimplifyOptions vg = vg_options(std::vector<float>(bunny.num_faces(), 0.5f));
+    vg.target_faces = qb.target_faces;
+    vg.visibility_exponent = exponent;
+    SCOPED_TRACE("exponent " + std::to_string(exponent));
+    expect_identical(reference, simplify(bunny, vg).mesh);
+  }
+  SimplifyOptions bad = qb;
+  for (double exponent : {0.0, -1.0, std::numeric_limits<double>::infinity()}) {
+    bad.visibility_exponent = exponent;
+    EXPECT_THROW(check_options(bad), UsageError);
+  }
+}
+
+// Where no camera saw anything, Q_v = 0: the hidden part must still lose its least important
+// detail first, as QB would on it alone (same largest collapse error), not in heap order.
+TEST(VisibilityGuided, HiddenPartsAreCollapsedInOrderOfPlainError) {
+  Mesh bumpy = test::icosphere(3);
+  for (std::size_t v = 0; v < bumpy.num_vertices(); ++v)  // deterministic relief of ±5%
+    bumpy.positions[v] = bumpy.positions[v] * (1.0 + 0.05 * std::sin(7.0 * double(v)));
+  const Mesh visible = test::icosphere(2);
+  Mesh pair = visible;
+  for (const Vec3& p : bumpy.positions) pair.positions.push_back(p + Vec3{3, 0, 0});
+  const auto offset = static_cast<VertexIndex>(visible.num_vertices());
+  for (const Face& f : bumpy.faces) pair.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  std::vector<float> visibility(pair.num_faces(), 1.0f);
+  std::fill(visibility.begin() + static_cast<std::ptrdiff_t>(visible.num_faces()), visibility.end(), 0.0f);
+
+  const std::size_t hidden_target = bumpy.num_faces() / 2;
+  SimplifyOptions alone;
+  alone.target_faces = hidden_target;
+  alone.boundary_weight = 0;
+  SimplifyOptions vg = vg_options(visibility);
+  vg.target_faces = visible.num_faces() + hidden_target;
+  vg.boundary_weight = 0;
+  const Simplified by_qb = simplify(bumpy, alone), by_vg = simplify(pair, vg);
+  ASSERT_EQ(by_vg.mesh.num_faces(), by_qb.mesh.num_faces() + visible.num_faces());
+  // Relative errors: the pair's diagonal is larger, so scale VG's back to the bumpy sphere's.
+  const double scale = bounding_box(pair).diagonal() / bounding_box(bumpy).diagonal();
+  EXPECT_LT(by_vg.result.max_error * scale, 1.5 * by_qb.result.max_error);
 }
 
 TEST(VisibilityGuided, RejectsMissingOrOutOfRangeVisibility) {

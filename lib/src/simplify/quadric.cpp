@@ -31,24 +31,10 @@ Quadric Quadric::plane(const Vec3& n, const Vec3& point, double weight) {
   return q;
 }
 
-Quadric& Quadric::operator+=(const Quadric& o) {
-  a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
-  b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c; area += o.area;
-  return *this;
-}
-
 Quadric& Quadric::operator*=(double s) {
   a00 *= s; a01 *= s; a02 *= s; a11 *= s; a12 *= s; a22 *= s;
   b0 *= s; b1 *= s; b2 *= s; c *= s; area *= s;
   return *this;
-}
-
-double Quadric::evaluate(const Vec3& p) const {
-  const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
-  const double ay = a01 * p.x + a11 * p.y + a12 * p.z;
-  const double az = a02 * p.x + a12 * p.y + a22 * p.z;
-  const double e = p.x * ax + p.y * ay + p.z * az + 2 * (b0 * p.x + b1 * p.y + b2 * p.z) + c;
-  return e > 0 ? e : 0.0;
 }
 
 namespace {

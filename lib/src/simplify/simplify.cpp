@@ -31,6 +31,8 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
       switch_spec("--freeze-boundary", o.freeze_boundary, "never move or remove boundary vertices"),
       option_spec("--max-normal-change", "DEG", o.max_normal_change_deg,
                   "reject collapses turning a face normal by more than DEG degrees, (0, 180]"),
+      option_spec("--visibility-exponent", "P", o.visibility_exponent,
+                  "VG: weight face quadrics by V^P in the queue order (2: Zhang & Turk eq. 5.10)"),
   };
 }
 
@@ -117,14 +119,14 @@ class CollapseEngine {
     mark_.assign(nv, 0);
     origin_.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) origin_[v] = static_cast<std::int64_t>(v);
-    quadrics_.assign(nv, Quadric{});
+    weighted_ = options.method == SimplifyMethod::vg;
+    quadrics_.assign(weighted_ ? 2 * nv : nv, Quadric{});
     if (options.method == SimplifyMethod::vg) {
       face_weight_.resize(faces_.size());
       for (std::size_t f = 0; f < faces_.size(); ++f) {
         const double v = options.face_visibility[f];
-        face_weight_[f] = v * v;
+        face_weight_[f] = options.visibility_exponent == 2.0 ? v * v : std::pow(v, options.visibility_exponent);
       }
-      cost_quadrics_.assign(nv, Quadric{});
     }
     build_vertex_faces();
     classify_vertices(options);
@@ -275,12 +277,12 @@ class CollapseEngine {
     if (!(len > 0) || is_degenerate_in_unit_frame(f)) return;
     Quadric q = Quadric::plane(m / len, positions_[a], weight * squared_norm(e));
     q.area = 0;  // constraint planes carry no surface area
-    quadrics_[a] += q;
-    quadrics_[b] += q;
-    if (!cost_quadrics_.empty()) {  // a boundary weighs what its face weighs
+    plain_quadric(a) += q;
+    plain_quadric(b) += q;
+    if (weighted_) {  // a boundary weighs what its face weighs
       q *= face_weight_[face];
-      cost_quadrics_[a] += q;
-      cost_quadrics_[b] += q;
+      cost_quadric(a) += q;
+      cost_quadric(b) += q;
     }
   }
 
@@ -303,10 +305,10 @@ class CollapseEngine {
   }
 
   void add_quadric(std::size_t face, const Face& f, const Quadric& q) {
-    for (VertexIndex v : f) quadrics_[v] += q;
-    if (!cost_quadrics_.empty()) {
+    for (VertexIndex v : f) plain_quadric(v) += q;
+    if (weighted_) {
       const Quadric weighted = q * face_weight_[face];
-      for (VertexIndex v : f) cost_quadrics_[v] += weighted;
+      for (VertexIndex v : f) cost_quadric(v) += weighted;
     }
   }
 
@@ -343,10 +345,10 @@ class CollapseEngine {
   // Collapsing (v0, v1): placed with the plain quadric; error = RMS distance of the placement
   // to the merged planes; cost (the queue key) = Q(x) under QB, Q_v(x) under VG (eq. 5.9).
   void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
-    const Quadric q = quadrics_[v0] + quadrics_[v1];
+    const Quadric q = plain_quadric(v0) + plain_quadric(v1);
     p.placement = place(q, positions_[v0], positions_[v1]);
     p.plain = q.evaluate(p.placement.position);
-    p.cost = cost_quadrics_.empty() ? p.plain : (cost_quadrics_[v0] + cost_quadrics_[v1]).evaluate(p.placement.position);
+    p.cost = weighted_ ? (cost_quadric(v0) + cost_quadric(v1)).evaluate(p.placement.position) : p.plain;
     p.error = std::sqrt(p.plain / std::max(q.area, 1e-300));
   }
 
@@ -356,9 +358,12 @@ class CollapseEngine {
   // hidden parts still lose their least important detail first. With V ≡ 1, Q_v = Q and
   // the keys are QB's.
   std::uint32_t queue_key(const CollapseProfile& p) const {
-    if (cost_quadrics_.empty() || p.cost > 0 || !(p.plain > 0)) return detail::radix_key(static_cast<float>(p.cost));
-    const double t = p.plain / (p.plain + 1.0);  // [0, 1), monotone in the plain error
-    return 1u + static_cast<std::uint32_t>(t * double(0x7ffffe));
+    if (!weighted_ || p.cost > 0 || !(p.plain > 0)) return detail::radix_key(static_cast<float>(p.cost));
+    // The float bits of the plain error without their 8 lowest bits: monotone, 2^-15
+    // relative resolution at every scale, and at most 0x7f8000, below the first normal float.
+    // (A linear map of the plain error gave every small error the same key, leaving hidden
+    // parts to the heap's order and to many refused collapses.)
+    return 1u + (detail::radix_key(static_cast<float>(p.plain)) >> 8);
   }
 
   void push_edge(VertexIndex a, VertexIndex b) {
@@ -471,8 +476,8 @@ class CollapseEngine {
     positions_[v0] = p.placement.position;
     if (p.placement.kind == PlacementKind::endpoint1) origin_[v0] = origin_[v1];
     else if (p.placement.kind != PlacementKind::endpoint0) origin_[v0] = -1;
-    quadrics_[v0] += quadrics_[v1];
-    if (!cost_quadrics_.empty()) cost_quadrics_[v0] += cost_quadrics_[v1];
+    plain_quadric(v0) += plain_quadric(v1);
+    if (weighted_) cost_quadric(v0) += cost_quadric(v1);
     flags_[v0] = static_cast<std::uint8_t>(flags_[v0] | (flags_[v1] & kBoundary));
     flags_[v1] = 0;
     ++clock_;
@@ -517,8 +522,15 @@ class CollapseEngine {
   std::size_t faces_alive_ = 0;
   std::size_t dropped_repeated_index_faces_ = 0;
   std::vector<std::vector<std::uint32_t>> vertex_faces_;
-  std::vector<Quadric> quadrics_;                    // plain: place the vertex, give the error
-  std::vector<Quadric> cost_quadrics_;               // VG only: Σ V(t)² K_t, orders the queue
+  // Per vertex the plain quadric Q (places the vertex, gives the error) and, under VG, right
+  // after it the cost quadric Q_v = Σ V(t)² K_t (orders the queue). Interleaved, both come in
+  // with one memory access: a separate array doubled the cache misses (VG +15–40% over QB).
+  bool weighted_ = false;
+  std::vector<Quadric> quadrics_;
+  Quadric& plain_quadric(VertexIndex v) { return quadrics_[weighted_ ? 2 * std::size_t(v) : v]; }
+  const Quadric& plain_quadric(VertexIndex v) const { return quadrics_[weighted_ ? 2 * std::size_t(v) : v]; }
+  Quadric& cost_quadric(VertexIndex v) { return quadrics_[2 * std::size_t(v) + 1]; }
+  const Quadric& cost_quadric(VertexIndex v) const { return quadrics_[2 * std::size_t(v) + 1]; }
   std::vector<double> face_weight_;                  // VG only: V(t)² per input face
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> modified_;              // clock of the vertex's last change
@@ -543,6 +555,8 @@ void check_options(const SimplifyOptions& options) {
     throw UsageError("--boundary-weight must be a finite number >= 0");
   if (!(options.max_normal_change_deg > 0 && options.max_normal_change_deg <= 180))
     throw UsageError("--max-normal-change must be in (0, 180] degrees");
+  if (!(options.visibility_exponent > 0) || !std::isfinite(options.visibility_exponent))
+    throw UsageError("--visibility-exponent must be a finite number > 0");
   const bool has_target = options.target_faces > 0 || options.target_ratio > 0;
   if (!has_target && std::isinf(options.max_error))
     throw UsageError("give a target (--target or --ratio) or an error limit (--max-error)");

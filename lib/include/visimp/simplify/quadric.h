@@ -22,14 +22,24 @@ struct Quadric {
   /// weight · (n·x + d)² for the plane through `point` with unit normal `n`.
   static Quadric plane(const Vec3& n, const Vec3& point, double weight);
 
-  Quadric& operator+=(const Quadric& o);
+  Quadric& operator+=(const Quadric& o) {  // inline: the collapse loop's hottest operation
+    a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
+    b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c; area += o.area;
+    return *this;
+  }
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
   /// Scales every term (and the area): the VG weights V(t)².
   Quadric& operator*=(double s);
   friend Quadric operator*(Quadric a, double s) { return a *= s; }
 
   /// Q(p), clamped at 0 (rounding can make it slightly negative).
-  double evaluate(const Vec3& p) const;
+  double evaluate(const Vec3& p) const {
+    const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
+    const double ay = a01 * p.x + a11 * p.y + a12 * p.z;
+    const double az = a02 * p.x + a12 * p.y + a22 * p.z;
+    const double e = p.x * ax + p.y * ay + p.z * az + 2 * (b0 * p.x + b1 * p.y + b2 * p.z) + c;
+    return e > 0 ? e : 0.0;
+  }
 };
 
 /// How place() chose the point (reported in tests and traces).

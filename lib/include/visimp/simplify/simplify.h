@@ -50,6 +50,10 @@ struct SimplifyOptions {
   SimplifyMethod method = SimplifyMethod::qb;
   /// VG: V(t) in [0, 1] of every input face (visibility.h computes it). Unused by QB.
   std::vector<float> face_visibility;
+  /// VG: each face's plane quadric is weighted by V(t)^p in the queue order. 2 is Zhang &
+  /// Turk's eq. 5.10; smaller p discounts partly visible faces less (1: the weight is the
+  /// share of views that see the face). Must be > 0.
+  double visibility_exponent = 2.0;
 };
 
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
