@@ -1,4 +1,5 @@
 // visimp compare: the QB-vs-VG report (docs/compare.md).
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -54,7 +55,13 @@ int run_compare(const Args& args) {
   parser.add(option_spec("--image-resolution", "R", image_resolution, "image-error view size in pixels, 16..8192"));
   parser.add(describe_options(sampling));
   parser.add(describe_options(options.visibility));
-  parser.add(describe_options(options.simplify));
+  {  // the levels set the face counts: --target and --ratio would be silently ignored
+    std::vector<OptionSpec> simplify_flags = describe_options(options.simplify);
+    simplify_flags.erase(std::remove_if(simplify_flags.begin(), simplify_flags.end(),
+                                        [](const OptionSpec& o) { return o.flag == "--target" || o.flag == "--ratio"; }),
+                         simplify_flags.end());
+    parser.add(std::move(simplify_flags));
+  }
   parser.add(option_spec("--format", "F", stream.format, "format of IN when it is '-': ply, obj, off or stl"));
   parser.add(switch_spec("--json", stream.json, "print a machine-readable JSON summary"));
   if (!parser.parse(args)) return 0;
