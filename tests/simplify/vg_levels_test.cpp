@@ -28,6 +28,21 @@ void expect_identical(const Mesh& a, const Mesh& b) {
   EXPECT_TRUE(a.positions == b.positions);  // Vec3 == is exact: bit for bit
 }
 
+// `seen` (V = 1) with `hidden` (V = 0) beside it, 3 units along +x.
+struct SeenBesideHidden {
+  Mesh mesh;
+  std::vector<float> visibility;
+};
+
+SeenBesideHidden seen_beside_hidden(const Mesh& seen, const Mesh& hidden) {
+  SeenBesideHidden out{seen, std::vector<float>(seen.num_faces() + hidden.num_faces(), 1.0f)};
+  for (const Vec3& p : hidden.positions) out.mesh.positions.push_back(p + Vec3{3, 0, 0});
+  const auto offset = static_cast<VertexIndex>(seen.num_vertices());
+  for (const Face& f : hidden.faces) out.mesh.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  std::fill(out.visibility.begin() + static_cast<std::ptrdiff_t>(seen.num_faces()), out.visibility.end(), 0.0f);
+  return out;
+}
+
 TEST(VisibilityGuided, WithVisibilityOneEverywhereItIsQbBitForBit) {
   const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
   SimplifyOptions qb;
@@ -41,12 +56,7 @@ TEST(VisibilityGuided, WithVisibilityOneEverywhereItIsQbBitForBit) {
 // while QB splits them by geometry.
 TEST(VisibilityGuided, HiddenFacesAreCollapsedFirst) {
   const Mesh sphere = test::icosphere(3);
-  Mesh pair = sphere;
-  for (const Vec3& p : sphere.positions) pair.positions.push_back(p + Vec3{3, 0, 0});
-  const auto offset = static_cast<VertexIndex>(sphere.num_vertices());
-  for (const Face& f : sphere.faces) pair.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
-  std::vector<float> visibility(pair.num_faces(), 1.0f);
-  std::fill(visibility.begin() + static_cast<std::ptrdiff_t>(sphere.num_faces()), visibility.end(), 0.0f);
+  const auto [pair, visibility] = seen_beside_hidden(sphere, sphere);
 
   auto faces_left = [](const Mesh& m) {
     return std::count_if(m.faces.begin(), m.faces.end(), [&](const Face& f) { return m.positions[f[0]].x < 1.5; });
@@ -94,12 +104,7 @@ TEST(VisibilityGuided, HiddenPartsAreCollapsedInOrderOfPlainError) {
   for (std::size_t v = 0; v < bumpy.num_vertices(); ++v)  // deterministic relief of ±5%
     bumpy.positions[v] = bumpy.positions[v] * (1.0 + 0.05 * std::sin(7.0 * double(v)));
   const Mesh visible = test::icosphere(2);
-  Mesh pair = visible;
-  for (const Vec3& p : bumpy.positions) pair.positions.push_back(p + Vec3{3, 0, 0});
-  const auto offset = static_cast<VertexIndex>(visible.num_vertices());
-  for (const Face& f : bumpy.faces) pair.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
-  std::vector<float> visibility(pair.num_faces(), 1.0f);
-  std::fill(visibility.begin() + static_cast<std::ptrdiff_t>(visible.num_faces()), visibility.end(), 0.0f);
+  const auto [pair, visibility] = seen_beside_hidden(visible, bumpy);
 
   const std::size_t hidden_target = bumpy.num_faces() / 2;
   SimplifyOptions alone;
