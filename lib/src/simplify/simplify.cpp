@@ -121,7 +121,7 @@ class CollapseEngine {
     for (std::size_t v = 0; v < nv; ++v) origin_[v] = static_cast<std::int64_t>(v);
     weighted_ = options.method == SimplifyMethod::vg;
     quadrics_.assign(weighted_ ? 2 * nv : nv, Quadric{});
-    if (options.method == SimplifyMethod::vg) {
+    if (weighted_) {
       face_weight_.resize(faces_.size());
       for (std::size_t f = 0; f < faces_.size(); ++f) {
         const double v = options.face_visibility[f];
@@ -531,7 +531,7 @@ class CollapseEngine {
   const Quadric& plain_quadric(VertexIndex v) const { return quadrics_[weighted_ ? 2 * std::size_t(v) : v]; }
   Quadric& cost_quadric(VertexIndex v) { return quadrics_[2 * std::size_t(v) + 1]; }
   const Quadric& cost_quadric(VertexIndex v) const { return quadrics_[2 * std::size_t(v) + 1]; }
-  std::vector<double> face_weight_;                  // VG only: V(t)² per input face
+  std::vector<double> face_weight_;                  // VG only: V(t)^P per input face (P = 2 by default)
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> modified_;              // clock of the vertex's last change
   std::vector<std::int64_t> origin_;                 // input vertex whose exact position v holds, or -1
