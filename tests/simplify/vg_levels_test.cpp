@@ -77,7 +77,7 @@ TEST(VisibilityGuided, HiddenFacesAreCollapsedFirst) {
 }
 
 // A uniform V scales every cost by the same power of two here, so any exponent orders the
-// queue exactly as QB does.
+// queue exactly as QB does; a varying V makes the exponent matter.
 TEST(VisibilityGuided, ExponentOnlyMattersWhereVisibilityVaries) {
   const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
   SimplifyOptions qb;
@@ -90,6 +90,13 @@ TEST(VisibilityGuided, ExponentOnlyMattersWhereVisibilityVaries) {
     SCOPED_TRACE("exponent " + std::to_string(exponent));
     expect_identical(reference, simplify(bunny, vg).mesh);
   }
+  // Where V varies, the exponent is used: V and V² order the queue differently.
+  std::vector<float> varying(bunny.num_faces());
+  for (std::size_t f = 0; f < varying.size(); ++f) varying[f] = 0.2f + 0.8f * float(f % 7) / 6.0f;
+  SimplifyOptions linear = vg_options(varying), squared = vg_options(varying);
+  linear.target_faces = squared.target_faces = qb.target_faces;
+  linear.visibility_exponent = 1.0;
+  EXPECT_FALSE(simplify(bunny, linear).mesh.faces == simplify(bunny, squared).mesh.faces);
   SimplifyOptions bad = qb;
   for (double exponent : {0.0, -1.0, std::numeric_limits<double>::infinity()}) {
     bad.visibility_exponent = exponent;
