@@ -35,7 +35,7 @@ int run_compare(const Args& args) {
   SamplingOptions sampling;
   StreamOptions stream;
   std::string directory, targets_text;
-  std::size_t image_resolution = 256;
+  std::size_t image_resolution = 256, image_supersample = static_cast<std::size_t>(options.image.supersample);
   ArgParser parser(
       "visimp compare IN [-o DIR] [--targets N,N,.. | --levels K] [options]",
       "Simplifies IN with QB and with VG to the same face counts (one collapse run each), measures\n"
@@ -53,6 +53,8 @@ int run_compare(const Args& args) {
   parser.add(option_spec("--metro-samples", "N", options.metro_samples,
                          "Metro face samples per direction (0: 10 x IN's faces, at most 2,000,000)"));
   parser.add(option_spec("--image-resolution", "R", image_resolution, "image-error view size in pixels, 16..8192"));
+  parser.add(option_spec("--image-supersample", "S", image_supersample,
+                         "image-error samples per pixel side, averaged, 1..8 (1: point sampling)"));
   parser.add(describe_options(sampling));
   parser.add(describe_options(options.visibility));
   {  // the levels set the face counts: --target and --ratio would be silently ignored
@@ -68,6 +70,7 @@ int run_compare(const Args& args) {
   if (!targets_text.empty()) options.targets = parse_count_list(targets_text, "--targets");
   if (image_resolution < 16 || image_resolution > 8192) throw UsageError("--image-resolution must be in 16..8192");
   options.image.resolution = static_cast<int>(image_resolution);
+  options.image.supersample = static_cast<int>(std::min<std::size_t>(image_supersample, 64));  // image_error checks 1..8
   options.image.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, 4096));
   options.simplify.target_ratio = 0.5;  // placeholder so check_options accepts it; levels set the targets
   check_options(options);

@@ -155,19 +155,23 @@ int run_metro(const Args& args) {
 int run_imgerr(const Args& args) {
   ImageErrorOptions options;
   StreamOptions stream;
-  std::size_t resolution = static_cast<std::size_t>(options.resolution), threads = 0;
-  ArgParser parser("visimp imgerr A B [--resolution R] [--diff-prefix P] [--json]",
+  std::size_t resolution = static_cast<std::size_t>(options.resolution), threads = 0,
+              supersample = static_cast<std::size_t>(options.supersample);
+  ArgParser parser("visimp imgerr A B [--resolution R] [--supersample S] [--diff-prefix P] [--json]",
                    "Image RMS error (Zhang & Turk 2002, eq. 5.11) between A and B rendered flat-shaded from\n"
                    "the 20 vertices of a dodecahedron around their common bounding sphere.",
                    2);
   parser.add(option_spec("--resolution", "R", resolution, "view width and height in pixels, 16..8192"));
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
+  parser.add(option_spec("--supersample", "S", supersample,
+                         "samples per pixel side, averaged (box filter), 1..8; 1: point sampling"));
   parser.add(option_spec("--diff-prefix", "P", options.difference_prefix,
                          "write P0.png..P19.png: |I_A - I_B| in the red channel"));
   parser.add(describe_options(stream, false));
   if (!parser.parse(args)) return 0;
   if (resolution < 16 || resolution > 8192) throw UsageError("--resolution must be in 16..8192");
   options.resolution = static_cast<int>(resolution);
+  options.supersample = static_cast<int>(std::min<std::size_t>(supersample, 64));  // image_error checks 1..8
   options.threads = static_cast<unsigned>(std::min<std::size_t>(threads, 1024));
   const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
   const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);
@@ -175,14 +179,17 @@ int run_imgerr(const Args& args) {
   if (stream.json) {
     JsonWriter json(std::cout);
     json.begin_object().field("command", "imgerr").field("a", path_a).field("b", path_b);
-    json.field("resolution", static_cast<std::int64_t>(e.resolution)).field("views", e.views);
+    json.field("resolution", static_cast<std::int64_t>(e.resolution))
+        .field("supersample", static_cast<std::int64_t>(e.supersample))
+        .field("views", e.views);
     json.field("rms", e.rms).field("rms_per_pixel", e.rms_per_pixel);
     json.key("view_rms_per_pixel").begin_array();
     for (double v : e.view_rms) json.value(v);
     json.end_array().field("seconds", e.seconds).end_object();
   } else {
     std::cout << "image RMS error (eq. 5.11): " << e.rms << "\nper-pixel RMS: " << e.rms_per_pixel << " of 255 ("
-              << e.views << " views at " << e.resolution << "x" << e.resolution << ", " << e.seconds << " s)\n";
+              << e.views << " views at " << e.resolution << "x" << e.resolution << ", " << e.supersample << "x"
+              << e.supersample << " samples per pixel, " << e.seconds << " s)\n";
   }
   return 0;
 }

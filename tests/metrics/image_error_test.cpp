@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "test_meshes.h"
+#include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
 #include "visimp/io/mesh_io.h"
+#include "visimp/render/frame.h"
 #include "visimp/simplify/simplify.h"
 
 namespace visimp {
@@ -29,6 +32,53 @@ TEST(ImageError, GrowsAsTheMeshIsSimplifiedFurther) {
     EXPECT_NEAR(e.rms_per_pixel, e.rms / std::sqrt(20.0 * 256 * 256), 1e-9);
     previous = e.rms;
   }
+}
+
+// A frame that followed B's bounding box would render A a little differently for every B (a
+// sub-pixel move changes A's aliasing), so QB and VG results would be measured against
+// different images of the same input. The views frame A alone when B fits in them: adding to
+// B a zero-area triangle that widens its bounding box (inside A's view sphere) and draws no
+// pixel must leave the error exactly as it was.
+TEST(ImageError, ViewsFrameTheReferenceWhenTheOtherFitsInIt) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  SimplifyOptions o;
+  o.target_ratio = 0.2;
+  const Mesh simplified = simplify(bunny, o).mesh;
+  const BoundingBox box = bounding_box(bunny);
+  Mesh widened = simplified;
+  const Vec3 outside{box.max.x + 0.02 * box.diagonal(), box.center().y, box.center().z};
+  const auto first = static_cast<VertexIndex>(widened.positions.size());
+  widened.positions.insert(widened.positions.end(), {outside, outside, outside});
+  widened.faces.push_back({first, first + 1, first + 2});
+  ASSERT_GT(bounding_box(widened).max.x, box.max.x);
+  for (int supersample : {1, 4}) {
+    const ImageError plain = image_error(bunny, simplified, {128, 2, "", supersample});
+    EXPECT_GT(plain.rms, 0.0);
+    EXPECT_EQ(image_error(bunny, widened, {128, 2, "", supersample}).rms, plain.rms) << supersample;
+  }
+}
+
+// A shift by a quarter of a pixel changes point-sampled edge pixels by the whole intensity
+// step, or not at all; averaged samples change by about a quarter of it. Supersampling is what
+// makes the measure follow sub-pixel geometry instead of where pixel centres happen to fall.
+TEST(ImageError, SupersamplingMeasuresSubpixelShiftsInProportion) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  const int resolution = 128;
+  const double pixel = 2 * view_radius(bounding_box(bunny)) / resolution;
+  Mesh shifted = bunny;
+  for (Vec3& p : shifted.positions) p = p + Vec3{0.25 * pixel, 0.25 * pixel, 0};
+  const ImageError point = image_error(bunny, shifted, {resolution, 2, "", 1});
+  const ImageError averaged = image_error(bunny, shifted, {resolution, 2, "", 4});
+  EXPECT_EQ(averaged.supersample, 4);
+  EXPECT_GT(averaged.rms, 0.0);
+  EXPECT_LT(averaged.rms, 0.75 * point.rms);
+}
+
+TEST(ImageError, RejectsABadSupersamplingFactor) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  EXPECT_THROW(image_error(bunny, bunny, {128, 2, "", 0}), UsageError);
+  EXPECT_THROW(image_error(bunny, bunny, {128, 2, "", 9}), UsageError);
+  EXPECT_THROW(image_error(bunny, bunny, {4096, 2, "", 4}), UsageError);  // 16384 samples per side
 }
 
 }  // namespace

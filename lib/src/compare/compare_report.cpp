@@ -104,6 +104,7 @@ std::string json(const CompareResult& r, const std::string& input_name) {
           .field("rms_per_pixel", l.image.rms_per_pixel)
           .field("views", l.image.views)
           .field("resolution", l.image.resolution)
+          .field("supersample", l.image.supersample)
           .end_object();
       j.end_object();
     }

@@ -1,21 +1,26 @@
 // Image RMS error (see image_error.h).
 #include "visimp/metrics/image_error.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "visimp/cameras/camera_set.h"
 #include "visimp/core/bounding_box.h"
+#include "visimp/core/errors.h"
 #include "visimp/render/image.h"
 
 namespace visimp {
 namespace {
 
-// Keeps one flat-shaded intensity image per camera.
+// Keeps one flat-shaded intensity image per camera at the output resolution: each pixel
+// the mean of the supersample × supersample frame samples it covers.
 class IntensityRecorder final : public FrameConsumer {
  public:
-  IntensityRecorder(const Mesh& mesh, std::size_t cameras) : images_(cameras) {
+  IntensityRecorder(const Mesh& mesh, std::size_t cameras, int supersample)
+      : images_(cameras), supersample_(static_cast<std::size_t>(supersample)) {
     normals_.reserve(mesh.num_faces());
     for (const Face& f : mesh.faces) {
       const Vec3 n = face_normal_unnormalized(mesh, f);
@@ -25,47 +30,78 @@ class IntensityRecorder final : public FrameConsumer {
   }
   void begin(unsigned) override {}
   void consume(const Frame& frame, std::size_t camera, unsigned) override {
-    std::vector<std::uint8_t>& image = images_[camera];
-    image.assign(frame.ids.size(), 0);
-    for (std::size_t p = 0; p < frame.ids.size(); ++p) {
-      const std::uint32_t id = frame.ids[p];
-      if (id == 0) continue;
-      const double facing = std::abs(dot(normals_[id - 1], frame.view.direction));
-      image[p] = static_cast<std::uint8_t>(std::lround(255.0 * facing));
+    const auto samples = static_cast<std::size_t>(frame.resolution());
+    const std::size_t size = samples / supersample_;
+    const double scale = 255.0 / double(supersample_ * supersample_);
+    std::vector<float>& image = images_[camera];
+    image.assign(size * size, 0.0f);
+    for (std::size_t y = 0; y < samples; ++y) {
+      float* row = &image[(y / supersample_) * size];
+      for (std::size_t x = 0; x < samples; ++x) {
+        const std::uint32_t id = frame.ids[y * samples + x];
+        if (id == 0) continue;
+        row[x / supersample_] += static_cast<float>(scale * std::abs(dot(normals_[id - 1], frame.view.direction)));
+      }
     }
   }
-  const std::vector<std::uint8_t>& image(std::size_t camera) const { return images_[camera]; }
+  const std::vector<float>& image(std::size_t camera) const { return images_[camera]; }
 
  private:
   std::vector<Vec3> normals_;
-  std::vector<std::vector<std::uint8_t>> images_;
+  std::vector<std::vector<float>> images_;
+  std::size_t supersample_;
 };
+
+struct View {
+  Vec3 center;
+  double radius;
+};
+
+// The views frame A, the reference, alone when B fits in them, so that every B compared with
+// the same A (QB and VG at every level) is measured against the very same images of A: a frame
+// that followed B's box moved by a fraction of a pixel with each result and changed the
+// aliasing of A's own images. A B reaching outside A's bounding sphere widens the frame to both.
+View frame_views(const Mesh& a, const Mesh& b) {
+  BoundingBox box = bounding_box(a);
+  const BoundingBox box_b = bounding_box(b);
+  if (box.empty()) return {box_b.center(), view_radius(box_b)};
+  const View own{box.center(), view_radius(box)};
+  if (box_b.empty()) return own;
+  double farthest = 0;
+  for (const Vec3& p : b.positions) farthest = std::max(farthest, squared_norm(p - own.center));
+  if (std::sqrt(farthest) <= own.radius) return own;
+  box.extend(box_b.min);
+  box.extend(box_b.max);
+  return {box.center(), view_radius(box)};
+}
 
 }  // namespace
 
 ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const auto renderer = make_raster_renderer({options.resolution, options.threads});
-  BoundingBox box = bounding_box(a);
-  const BoundingBox box_b = bounding_box(b);
-  if (!box_b.empty()) {
-    box.extend(box_b.min);
-    box.extend(box_b.max);
-  }
-  const Vec3 center = box.center();
-  const double radius = view_radius(box);
+  if (options.supersample < 1 || options.supersample > 8)
+    throw UsageError("image-error supersampling must be in 1..8, got " + std::to_string(options.supersample));
+  const int samples = options.resolution * options.supersample;
+  if (options.resolution < 16 || samples > 8192)
+    throw UsageError("image-error resolution × supersampling must be in 16..8192, got " + std::to_string(options.resolution) +
+                     " × " + std::to_string(options.supersample));
+  const auto renderer = make_raster_renderer({samples, options.threads});
+  const View view = frame_views(a, b);
+  const Vec3 center = view.center;
+  const double radius = view.radius;
   const CameraSet cameras = dodecahedron_cameras();
-  IntensityRecorder image_a(a, cameras.size()), image_b(b, cameras.size());
+  IntensityRecorder image_a(a, cameras.size(), options.supersample), image_b(b, cameras.size(), options.supersample);
   renderer->render(RenderScene::from_mesh(a, false, center, radius), cameras, 0, cameras.size(), image_a);
   renderer->render(RenderScene::from_mesh(b, false, center, radius), cameras, 0, cameras.size(), image_b);
 
   ImageError out;
   out.resolution = options.resolution;
+  out.supersample = options.supersample;
   out.views = cameras.size();
   const auto size = static_cast<std::size_t>(options.resolution);
   double total = 0;
   for (std::size_t n = 0; n < cameras.size(); ++n) {
-    const std::vector<std::uint8_t>&ia = image_a.image(n), &ib = image_b.image(n);
+    const std::vector<float>&ia = image_a.image(n), &ib = image_b.image(n);
     double d = 0;
     for (std::size_t p = 0; p < ia.size(); ++p) {
       const double diff = double(ia[p]) - double(ib[p]);
@@ -78,7 +114,7 @@ ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& op
       for (std::size_t y = 0; y < size; ++y)
         for (std::size_t x = 0; x < size; ++x) {
           const std::size_t p = y * size + x, q = ((size - 1 - y) * size + x) * 3;  // PNG rows top-down
-          diff.rgb[q] = static_cast<std::uint8_t>(std::abs(int(ia[p]) - int(ib[p])));
+          diff.rgb[q] = static_cast<std::uint8_t>(std::lround(std::min(255.0f, std::abs(ia[p] - ib[p]))));
         }
       write_png(options.difference_prefix + std::to_string(n) + ".png", diff);
     }
