@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 namespace visimp {
 namespace {
 
@@ -52,6 +54,28 @@ TEST(Quadric, FarAwayOptimumFallsBackToTheSegment) {
                     Quadric::plane({0, 0, 1}, {0, 0, 0}, 1);
   const Placement p = place(q, {0, 0, 0}, {1, 0, 0});
   EXPECT_EQ(p.kind, PlacementKind::endpoint1);  // the segment's best point is its end at x = 1
+}
+
+// The collapse loop takes the error from the placement instead of evaluating Q again: it must
+// be Q at the returned point, bit for bit, whichever branch chose the point.
+TEST(Quadric, PlacementCarriesTheErrorAtItsPoint) {
+  const Quadric corner = Quadric::plane({1, 0, 0}, {1, 0, 0}, 1) + Quadric::plane({0, 1, 0}, {0, 2, 0}, 2) +
+                         Quadric::plane({0, 0.6, 0.8}, {0, 0, 3}, 0.5) + Quadric::plane({0.6, 0, 0.8}, {0, 0, 5}, 1);
+  const Quadric flat = Quadric::plane({0, 0, 1}, {0, 0, 0.25}, 1) + Quadric::plane({0, 0, 1}, {0, 0, 0.35}, 1);
+  const Quadric far = Quadric::plane({1, 0, 0}, {100, 0, 0}, 1) + Quadric::plane({0, 1, 0}, {0, 0, 0}, 100) +
+                      Quadric::plane({0, 0, 1}, {0, 0, 0}, 1);
+  const std::pair<Quadric, PlacementKind> cases[] = {
+      {corner, PlacementKind::optimal}, {flat, PlacementKind::pseudo_inverse}, {far, PlacementKind::segment}};
+  for (const auto& [q, kind] : cases) {
+    const Placement p = place(q, {0, -1, 0.1}, {1, 1, 0.2});
+    EXPECT_EQ(p.kind, kind);
+    EXPECT_GT(p.error, 0.0);
+    EXPECT_EQ(p.error, q.evaluate(p.position));
+  }
+  const Placement endpoint = place(flat, {0, 0, 0.3}, {1, 0, 0.2});
+  EXPECT_EQ(endpoint.kind, PlacementKind::endpoint0);
+  EXPECT_GT(endpoint.error, 0.0);
+  EXPECT_EQ(endpoint.error, flat.evaluate(endpoint.position));
 }
 
 }  // namespace

@@ -104,7 +104,9 @@ Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1) {
   const double tolerance = 1e-12 * (trace + std::abs(q.c)) + 1e-300;
   const double e0 = q.evaluate(p0), e1 = q.evaluate(p1);
   if (std::min(e0, e1) <= best + tolerance) {
-    result = e0 <= e1 ? Placement{p0, PlacementKind::endpoint0} : Placement{p1, PlacementKind::endpoint1};
+    result = e0 <= e1 ? Placement{p0, PlacementKind::endpoint0, e0} : Placement{p1, PlacementKind::endpoint1, e1};
+  } else {
+    result.error = best;
   }
   return result;
 }

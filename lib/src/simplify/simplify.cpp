@@ -347,7 +347,7 @@ class CollapseEngine {
   void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
     const Quadric q = plain_quadric(v0) + plain_quadric(v1);
     p.placement = place(q, positions_[v0], positions_[v1]);
-    p.plain = q.evaluate(p.placement.position);
+    p.plain = p.placement.error;
     p.cost = weighted_ ? (cost_quadric(v0) + cost_quadric(v1)).evaluate(p.placement.position) : p.plain;
     p.error = std::sqrt(p.plain / std::max(q.area, 1e-300));
   }

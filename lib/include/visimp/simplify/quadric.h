@@ -55,6 +55,7 @@ enum class PlacementKind {
 struct Placement {
   Vec3 position;
   PlacementKind kind = PlacementKind::optimal;
+  double error = 0;  ///< Q(position), clamped at 0: place() evaluates it anyway
 };
 
 /// Where the edge (p0, p1) with merged quadric q should collapse to.
