@@ -127,6 +127,47 @@ TEST(VisibilityGuided, HiddenPartsAreCollapsedInOrderOfPlainError) {
   EXPECT_LT(by_vg.result.max_error * scale, 1.5 * by_qb.result.max_error);
 }
 
+// --crease-visibility: a face across a crease (> 30°) from a more visible face takes that
+// face's V, and nothing else changes. On a tessellated cube with a seen top and grazing sides,
+// exactly the side faces along the top's rim are raised, each to the V of the top face across
+// its edge: the run must equal a plain VG run given those raised values by hand.
+TEST(VisibilityGuided, CreaseVisibilityRaisesTheFacesAlongAVisibleRim) {
+  const Mesh cube = test::subdivided_cube(8);
+  const double top = bounding_box(cube).max.z;
+  auto normal_z = [&](const Face& f) {
+    const Vec3 n = cross(cube.positions[f[1]] - cube.positions[f[0]], cube.positions[f[2]] - cube.positions[f[0]]);
+    return n.z / norm(n);
+  };
+  // Top faces V = 1, every third 0.5 (flat neighbours: not a crease, nothing is raised there);
+  // sides and bottom 0.1.
+  std::vector<float> visibility(cube.num_faces());
+  for (std::size_t f = 0; f < cube.num_faces(); ++f)
+    visibility[f] = normal_z(cube.faces[f]) > 0.5 ? (f % 3 == 0 ? 0.5f : 1.0f) : 0.1f;
+  std::vector<float> raised = visibility;
+  std::size_t rim_faces = 0;
+  for (std::size_t f = 0; f < cube.num_faces(); ++f) {
+    const Face& face = cube.faces[f];
+    if (std::abs(normal_z(face)) > 0.5) continue;
+    for (int k = 0; k < 3; ++k) {  // a side face's edge on the top's rim: take the top face across it
+      const VertexIndex a = face[k], b = face[(k + 1) % 3];
+      if (cube.positions[a].z != top || cube.positions[b].z != top) continue;
+      for (std::size_t g = 0; g < cube.num_faces(); ++g) {
+        const Face& other = cube.faces[g];
+        const bool shares = g != f && std::count(other.begin(), other.end(), a) && std::count(other.begin(), other.end(), b);
+        if (shares) raised[f] = std::max(raised[f], visibility[g]);
+      }
+      ++rim_faces;
+    }
+  }
+  ASSERT_GT(rim_faces, 0u);
+  SimplifyOptions crease = vg_options(visibility), by_hand = vg_options(raised), plain = vg_options(visibility);
+  crease.crease_visibility = true;
+  crease.target_faces = by_hand.target_faces = plain.target_faces = cube.num_faces() / 4;
+  const Mesh with_crease = simplify(cube, crease).mesh;
+  expect_identical(with_crease, simplify(cube, by_hand).mesh);
+  EXPECT_FALSE(with_crease.faces == simplify(cube, plain).mesh.faces);  // the option does something
+}
+
 TEST(VisibilityGuided, RejectsMissingOrOutOfRangeVisibility) {
   const Mesh m = test::icosphere(1);
   SimplifyOptions o = vg_options({});

@@ -33,6 +33,8 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
                   "reject collapses turning a face normal by more than DEG degrees, (0, 180]"),
       option_spec("--visibility-exponent", "P", o.visibility_exponent,
                   "VG: weight face quadrics by V^P in the queue order (2: Zhang & Turk eq. 5.10)"),
+      switch_spec("--crease-visibility", o.crease_visibility,
+                  "VG: a face meeting a more visible face at a crease (> 30 deg) takes its V"),
   };
 }
 
@@ -121,14 +123,8 @@ class CollapseEngine {
     for (std::size_t v = 0; v < nv; ++v) origin_[v] = static_cast<std::int64_t>(v);
     weighted_ = options.method == SimplifyMethod::vg;
     quadrics_.assign(weighted_ ? 2 * nv : nv, Quadric{});
-    if (weighted_) {
-      face_weight_.resize(faces_.size());
-      for (std::size_t f = 0; f < faces_.size(); ++f) {
-        const double v = options.face_visibility[f];
-        face_weight_[f] = options.visibility_exponent == 2.0 ? v * v : std::pow(v, options.visibility_exponent);
-      }
-    }
     build_vertex_faces();
+    if (weighted_) compute_face_weights(options);
     classify_vertices(options);
     add_face_quadrics();
     push_initial_edges();
@@ -221,6 +217,34 @@ class CollapseEngine {
       if (!face_alive_[f]) continue;
       for (VertexIndex v : faces_[f]) vertex_faces_[v].push_back(f);
     }
+  }
+
+  // VG: V(t)^P per input face; with crease_visibility, V(t) is first raised to the V of any
+  // face across an edge where the normals differ by more than 30°.
+  void compute_face_weights(const SimplifyOptions& options) {
+    constexpr double kCreaseCosine = 0.8660254037844387;  // cos 30°
+    const std::vector<float>& visibility = options.face_visibility;
+    face_weight_.resize(faces_.size());
+    for (std::size_t f = 0; f < faces_.size(); ++f) {
+      double v = visibility[f];
+      if (options.crease_visibility && face_alive_[f]) {
+        const Face& face = faces_[f];
+        const Vec3 n = unit_normal(face);
+        for (int k = 0; k < 3; ++k) {
+          const VertexIndex a = face[k], b = face[(k + 1) % 3];
+          for (std::uint32_t g : vertex_faces_[a])
+            if (visibility[g] > v && has_vertex(faces_[g], b) && dot(n, unit_normal(faces_[g])) < kCreaseCosine)
+              v = visibility[g];
+        }
+      }
+      face_weight_[f] = options.visibility_exponent == 2.0 ? v * v : std::pow(v, options.visibility_exponent);
+    }
+  }
+
+  Vec3 unit_normal(const Face& f) const {
+    const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
+    const double len = norm(n);
+    return len > 0 ? n / len : Vec3{};
   }
 
   // Locks vertices the collapse rules cannot handle (edges with 3+ faces, misoriented

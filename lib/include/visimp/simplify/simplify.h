@@ -54,6 +54,11 @@ struct SimplifyOptions {
   /// Turk's eq. 5.10; smaller p discounts partly visible faces less (1: the weight is the
   /// share of views that see the face). Must be > 0.
   double visibility_exponent = 2.0;
+  /// VG: a face that meets a more visible face at a crease (normals more than 30° apart) is
+  /// weighted with that face's V: its plane is where the visible face ends, so moving off it
+  /// moves a visible outline even when the face itself is seen only at grazing angles.
+  /// Off by default (eq. 5.10 weighs each face by its own V); see docs/simplify.md.
+  bool crease_visibility = false;
 };
 
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
