@@ -144,6 +144,10 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
   std::ifstream json(dir + "/results.json");
   const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("\"less_image_error_with_vg_percent\""), std::string::npos);
+  // ... and the VG weighting it ran with, so two runs' files say how they differ.
+  EXPECT_NE(text.find("\"visibility_exponent\""), std::string::npos);
+  EXPECT_NE(text.find("\"crease_visibility\""), std::string::npos);
+  EXPECT_NE(text.find("\"supersample\""), std::string::npos);
   EXPECT_NE(table2_row(r, "bunny").find("| bunny | 3674 |"), std::string::npos);
   const std::string html = lines_of(dir + "/report.html").front();
   EXPECT_EQ(html, "<!DOCTYPE html>");

@@ -90,6 +90,8 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
 
   auto t = std::chrono::steady_clock::now();
   r.visibility_from_quality = options.visibility_from_quality;
+  r.visibility_exponent = options.simplify.visibility_exponent;
+  r.crease_visibility = options.simplify.crease_visibility;
   if (options.visibility_from_quality) {
     r.visibility = visibility_from_face_quality(input);
   } else {

@@ -63,6 +63,8 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       .field("relative_to", "bounding-box diagonal of the input")
       .field("mesh_visibility", r.visibility.mesh)
       .field("visibility_from_quality", r.visibility_from_quality)
+      .field("visibility_exponent", r.visibility_exponent)
+      .field("crease_visibility", r.crease_visibility)
       .field("hidden_faces", r.visibility.stats.hidden_faces)
       .field("hidden_area_fraction", r.visibility.stats.hidden_area_fraction)
       .field("less_image_error_with_vg_percent", r.less_image_error_percent);

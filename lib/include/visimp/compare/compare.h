@@ -56,6 +56,8 @@ struct CompareResult {
   double diagonal = 0;      ///< input bounding-box diagonal: relative errors divide by it
   Visibility visibility;    ///< V of the input (stats empty when read from quality)
   bool visibility_from_quality = false;
+  double visibility_exponent = 2;   ///< VG's weighting, as run (SimplifyOptions)
+  bool crease_visibility = false;
   double seconds_visibility = 0;
   std::vector<std::size_t> targets;          ///< descending
   std::vector<CompareLevel> qb, vg;          ///< one per target, same order
