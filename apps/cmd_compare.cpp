@@ -70,7 +70,8 @@ int run_compare(const Args& args) {
   if (!targets_text.empty()) options.targets = parse_count_list(targets_text, "--targets");
   if (image_resolution < 16 || image_resolution > 8192) throw UsageError("--image-resolution must be in 16..8192");
   options.image.resolution = static_cast<int>(image_resolution);
-  options.image.supersample = static_cast<int>(std::min<std::size_t>(image_supersample, 64));  // image_error checks 1..8
+  if (image_supersample < 1 || image_supersample > 8) throw UsageError("--image-supersample must be in 1..8");
+  options.image.supersample = static_cast<int>(image_supersample);
   options.image.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, 4096));
   options.simplify.target_ratio = 0.5;  // placeholder so check_options accepts it; levels set the targets
   check_options(options);

@@ -171,7 +171,8 @@ int run_imgerr(const Args& args) {
   if (!parser.parse(args)) return 0;
   if (resolution < 16 || resolution > 8192) throw UsageError("--resolution must be in 16..8192");
   options.resolution = static_cast<int>(resolution);
-  options.supersample = static_cast<int>(std::min<std::size_t>(supersample, 64));  // image_error checks 1..8
+  if (supersample < 1 || supersample > 8) throw UsageError("--supersample must be in 1..8");
+  options.supersample = static_cast<int>(supersample);
   options.threads = static_cast<unsigned>(std::min<std::size_t>(threads, 1024));
   const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
   const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "app_runner.h"
 #include "test_meshes.h"
@@ -57,6 +58,16 @@ TEST_F(App, UsageErrorsExitTwoWithOneLine) {
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
+  // Out-of-range sampling is refused up front, naming the flag, before any work or output.
+  const std::pair<std::string, const char*> sampling[] = {
+      {"imgerr " + bunny + " " + bunny + " --supersample 0", "--supersample"},
+      {"compare " + bunny + " -o " + dir + "/cmp --image-supersample 9", "--image-supersample"}};
+  for (const auto& [args, flag] : sampling) {
+    const AppRun r = run(args, dir);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/cmp"));
 }
 
 TEST_F(App, BadInputExitsOneNamingTheFileAndWritesNothing) {

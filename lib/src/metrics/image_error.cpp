@@ -87,12 +87,10 @@ ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& op
                      " × " + std::to_string(options.supersample));
   const auto renderer = make_raster_renderer({samples, options.threads});
   const View view = frame_views(a, b);
-  const Vec3 center = view.center;
-  const double radius = view.radius;
   const CameraSet cameras = dodecahedron_cameras();
   IntensityRecorder image_a(a, cameras.size(), options.supersample), image_b(b, cameras.size(), options.supersample);
-  renderer->render(RenderScene::from_mesh(a, false, center, radius), cameras, 0, cameras.size(), image_a);
-  renderer->render(RenderScene::from_mesh(b, false, center, radius), cameras, 0, cameras.size(), image_b);
+  renderer->render(RenderScene::from_mesh(a, false, view.center, view.radius), cameras, 0, cameras.size(), image_a);
+  renderer->render(RenderScene::from_mesh(b, false, view.center, view.radius), cameras, 0, cameras.size(), image_b);
 
   ImageError out;
   out.resolution = options.resolution;
