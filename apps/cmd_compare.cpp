@@ -55,6 +55,9 @@ int run_compare(const Args& args) {
   parser.add(option_spec("--image-resolution", "R", image_resolution, "image-error view size in pixels, 16..8192"));
   parser.add(option_spec("--image-supersample", "S", image_supersample,
                          "image-error samples per pixel side, averaged, 1..8 (1: point sampling)"));
+  parser.add(option_spec("--tie-noise", "N", options.tie_noise_runs,
+                         "also run N near-tie runs (VG with V in [0.99, 1]) and say per level whether VG's lead "
+                         "exceeds their spread, 0..100"));
   parser.add(describe_options(sampling));
   parser.add(describe_options(options.visibility));
   {  // the levels set the face counts: --target and --ratio would be silently ignored
@@ -104,17 +107,33 @@ int run_compare(const Args& args) {
         .field("faces_in", result.faces_in)
         .field("mesh_visibility", result.visibility.mesh)
         .field("less_image_error_with_vg_percent", result.less_image_error_percent);
+    if (!result.tie_noise_percent.empty()) {
+      const TieNoiseVerdict v = tie_noise_verdict(result);
+      json.key("levels_vs_tie_noise").begin_object()
+          .field("above", v.above)
+          .field("inside", v.inside)
+          .field("below", v.below)
+          .end_object();
+    }
     json.key("seconds").begin_object()
         .field("visibility", result.seconds_visibility)
         .field("qb", result.seconds_qb)
         .field("vg", result.seconds_vg)
+        .field("tie_noise", result.seconds_tie_noise)
         .end_object();
     json.key("files").begin_array();
     for (const std::string& f : written) json.value(f);
     json.end_array();
     json.end_object();
   } else {
-    std::cout << table2_row(result, name) << "report: " << (std::filesystem::path(directory) / "report.html").string()
+    std::cout << table2_row(result, name);
+    if (!result.tie_noise_percent.empty()) {
+      const TieNoiseVerdict v = tie_noise_verdict(result);
+      std::cout << "VG's lead against " << options.tie_noise_runs << " near-tie run(s), per level: above their spread at "
+                << v.above << ", inside at " << v.inside << ", below at " << v.below << " of " << result.targets.size()
+                << "\n";
+    }
+    std::cout << "report: " << (std::filesystem::path(directory) / "report.html").string()
               << "\n";
   }
   return 0;

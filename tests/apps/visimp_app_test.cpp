@@ -61,7 +61,8 @@ TEST_F(App, UsageErrorsExitTwoWithOneLine) {
   // Out-of-range sampling is refused up front, naming the flag, before any work or output.
   const std::pair<std::string, const char*> sampling[] = {
       {"imgerr " + bunny + " " + bunny + " --supersample 0", "--supersample"},
-      {"compare " + bunny + " -o " + dir + "/cmp --image-supersample 9", "--image-supersample"}};
+      {"compare " + bunny + " -o " + dir + "/cmp --image-supersample 9", "--image-supersample"},
+      {"compare " + bunny + " -o " + dir + "/cmp --tie-noise 101", "--tie-noise"}};
   for (const auto& [args, flag] : sampling) {
     const AppRun r = run(args, dir);
     EXPECT_EQ(r.code, 2) << args;
@@ -234,9 +235,10 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
                         "side_by_side.png"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/cmp/" + f)) << f;
   const AppRun text = run("compare " + bunny + " -o " + dir + "/cmp2 --targets 500 --cameras 6 --resolution 64 "
-                          "--metro-samples 10000 --image-resolution 32", dir);
+                          "--metro-samples 10000 --image-resolution 32 --tie-noise 1", dir);
   ASSERT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("| bunny | 3674 |"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("near-tie run(s), per level: above their spread at "), std::string::npos) << text.out;
   EXPECT_EQ(run("compare " + bunny + " --targets 9999", dir).code, 2);
   const AppRun no_quality = run("compare " + bunny + " --weights-from-quality -o " + dir + "/cmp3", dir);
   EXPECT_EQ(no_quality.code, 1);

@@ -65,8 +65,9 @@ CompareOptions quick_options(std::vector<std::size_t> targets) {
 TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
   const SealedScene scene = sealed_sphere_in_box();
   const auto renderer = make_raster_renderer({128, 0});
-  const CompareResult r = compare_methods(scene.mesh, octahedron_cameras(2), *renderer,
-                                          quick_options({scene.mesh.num_faces() / 2}));
+  CompareOptions options = quick_options({scene.mesh.num_faces() / 2});
+  options.tie_noise_runs = 2;
+  const CompareResult r = compare_methods(scene.mesh, octahedron_cameras(2), *renderer, options);
   // V = 0 on the whole sphere, > 0 on the box.
   for (std::size_t f = 0; f < scene.mesh.num_faces(); ++f) {
     if (f < scene.box_faces) EXPECT_GT(r.visibility.face[f], 0.2f) << f;
@@ -87,6 +88,12 @@ TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
   EXPECT_LT(r.vg[0].distance.visible.rms, r.qb[0].distance.visible.rms);
   EXPECT_LE(r.vg[0].image.rms, r.qb[0].image.rms);
   EXPECT_GE(r.less_image_error_percent, 0.0);
+  // Near-tie runs (V in [0.99, 1]) cut the box about as QB does: VG's lead here is real,
+  // above their spread.
+  ASSERT_EQ(r.tie_noise_percent.size(), 1u);
+  ASSERT_EQ(r.tie_noise_percent[0].size(), 2u);
+  for (double p : r.tie_noise_percent[0]) EXPECT_LT(p, r.less_image_error_percent_per_level[0]);
+  EXPECT_EQ(tie_noise_verdict(r, 0), "above");
 }
 
 TEST(Compare, DefaultTargetsAreLogSpacedEvenAndDistinct) {
@@ -114,7 +121,9 @@ std::vector<std::string> lines_of(const std::string& path) {
 TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
   const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
   const auto renderer = make_raster_renderer({128, 0});
-  const CompareResult r = compare_methods(bunny, octahedron_cameras(1), *renderer, quick_options({1000, 400}));
+  CompareOptions options = quick_options({1000, 400});
+  options.tie_noise_runs = 2;
+  const CompareResult r = compare_methods(bunny, octahedron_cameras(1), *renderer, options);
   const std::string dir = test::temp_dir("compare_report");
   const std::vector<std::string> written = write_compare_report(r, bunny, "bunny", dir);
   for (const char* name : {"results.csv", "results.json", "image_error_vs_faces.svg", "image_error_vs_seconds.svg",
@@ -148,6 +157,23 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
   EXPECT_NE(text.find("\"visibility_exponent\""), std::string::npos);
   EXPECT_NE(text.find("\"crease_visibility\""), std::string::npos);
   EXPECT_NE(text.find("\"supersample\""), std::string::npos);
+  // Per level VG's lead, each near-tie run and the verdict; the runs do perturb the order
+  // (V = 1 everywhere would give QB exactly, 0%), and every level gets one verdict.
+  ASSERT_EQ(r.less_image_error_percent_per_level.size(), 2u);
+  ASSERT_EQ(r.tie_noise_percent.size(), 2u);
+  bool perturbed = false;
+  for (const std::vector<double>& runs : r.tie_noise_percent) {
+    ASSERT_EQ(runs.size(), 2u);
+    for (double p : runs) perturbed = perturbed || p != 0.0;
+  }
+  EXPECT_TRUE(perturbed);
+  const TieNoiseVerdict verdict = tie_noise_verdict(r);
+  EXPECT_EQ(verdict.above + verdict.inside + verdict.below, 2u);
+  for (const char* key : {"\"per_level\"", "\"tie_noise_percent\"", "\"tie_noise_verdict\"", "\"tie_noise_runs\": 2"})
+    EXPECT_NE(text.find(key), std::string::npos) << key;
+  std::ifstream report(dir + "/report.html");
+  const std::string page((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("near-tie spread"), std::string::npos);
   EXPECT_NE(table2_row(r, "bunny").find("| bunny | 3674 |"), std::string::npos);
   const std::string html = lines_of(dir + "/report.html").front();
   EXPECT_EQ(html, "<!DOCTYPE html>");

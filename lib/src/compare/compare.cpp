@@ -11,6 +11,7 @@
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
+#include "visimp/core/portable_random.h"
 #include "visimp/core/validate.h"
 
 namespace visimp {
@@ -56,6 +57,7 @@ void check_options(const CompareOptions& o) {
   }
   for (std::size_t t : o.targets)
     if (t < 4) throw UsageError("--targets: every face count must be >= 4");
+  if (o.tie_noise_runs > 100) throw UsageError("--tie-noise must be in 0..100 runs");
   check_options(o.visibility);
 }
 
@@ -134,15 +136,57 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
       if (observer) observer->on_compare_progress("errors", double(++done) / double(total));
     }
   }
+  if (options.tie_noise_runs > 0) {
+    t = std::chrono::steady_clock::now();
+    r.tie_noise_percent.assign(r.targets.size(), {});
+    for (std::size_t run = 1; run <= options.tie_noise_runs; ++run) {
+      SimplifyOptions near_tie = vg;
+      SplitMix64 random(run);
+      for (float& v : near_tie.face_visibility) v = static_cast<float>(1.0 - 0.01 * random.uniform());
+      StageProgress progress(observer, "tie noise " + std::to_string(run));
+      double seconds = 0;
+      const std::vector<CompareLevel> levels = run_method(input, near_tie, r.targets, progress, seconds);
+      for (std::size_t i = 0; i < levels.size(); ++i) {
+        const double qb_rms = r.qb[i].image.rms;
+        const double run_rms = image_error(input, levels[i].mesh, options.image).rms;
+        r.tie_noise_percent[i].push_back(qb_rms > 0 ? 100.0 * (qb_rms - run_rms) / qb_rms : 0.0);
+      }
+    }
+    r.seconds_tie_noise = seconds_since(t);
+  }
+
   double sum = 0;
   std::size_t counted = 0;
+  r.less_image_error_percent_per_level.assign(r.targets.size(), 0.0);
   for (std::size_t i = 0; i < r.targets.size(); ++i) {
     if (!(r.qb[i].image.rms > 0)) continue;
-    sum += 100.0 * (r.qb[i].image.rms - r.vg[i].image.rms) / r.qb[i].image.rms;
+    r.less_image_error_percent_per_level[i] = 100.0 * (r.qb[i].image.rms - r.vg[i].image.rms) / r.qb[i].image.rms;
+    sum += r.less_image_error_percent_per_level[i];
     ++counted;
   }
   r.less_image_error_percent = counted ? sum / double(counted) : 0.0;
   return r;
+}
+
+std::string tie_noise_verdict(const CompareResult& r, std::size_t level) {
+  if (level >= r.tie_noise_percent.size() || r.tie_noise_percent[level].empty()) return "";
+  const std::vector<double>& runs = r.tie_noise_percent[level];
+  const double lead = r.less_image_error_percent_per_level[level];
+  // The runs and QB itself (0%) span the spread of near-tie orders.
+  const double low = std::min(0.0, *std::min_element(runs.begin(), runs.end()));
+  const double high = std::max(0.0, *std::max_element(runs.begin(), runs.end()));
+  return lead > high ? "above" : (lead < low ? "below" : "inside");
+}
+
+TieNoiseVerdict tie_noise_verdict(const CompareResult& r) {
+  TieNoiseVerdict v;
+  for (std::size_t i = 0; i < r.targets.size(); ++i) {
+    const std::string verdict = tie_noise_verdict(r, i);
+    if (verdict == "above") ++v.above;
+    else if (verdict == "below") ++v.below;
+    else if (verdict == "inside") ++v.inside;
+  }
+  return v;
 }
 
 std::string table2_row(const CompareResult& r, const std::string& name) {

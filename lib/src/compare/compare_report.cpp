@@ -72,7 +72,25 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       .field("visibility", r.seconds_visibility)
       .field("qb", r.seconds_qb)
       .field("vg", r.seconds_vg)
-      .end_object();
+      .field("tie_noise", r.seconds_tie_noise)
+        .end_object();
+  // Per level, VG's lead over QB and, when measured, the near-tie runs that say whether it
+  // is more than the order of near-equal collapses.
+  j.field("tie_noise_runs", r.tie_noise_percent.empty() ? std::size_t(0) : r.tie_noise_percent.front().size());
+  j.key("per_level").begin_array();
+  for (std::size_t i = 0; i < r.targets.size(); ++i) {
+    j.begin_object()
+        .field("target", r.targets[i])
+        .field("less_image_error_with_vg_percent", r.less_image_error_percent_per_level[i]);
+    if (i < r.tie_noise_percent.size()) {
+      j.key("tie_noise_percent").begin_array();
+      for (double p : r.tie_noise_percent[i]) j.value(p);
+      j.end_array();
+      j.field("tie_noise_verdict", tie_noise_verdict(r, i));
+    }
+    j.end_object();
+  }
+  j.end_array();
   j.key("levels").begin_array();
   for (const MethodView& m : methods(r)) {
     for (const CompareLevel& l : *m.levels) {
@@ -165,6 +183,33 @@ RgbImage grey_picture(const Mesh& m, int size) {
   return render_face_colors(m, std::vector<Rgb>(m.num_faces(), Rgb{200, 200, 200}), size);
 }
 
+// VG's lead per level and, with near-tie runs, where it lies against their spread.
+std::string per_level_table(const CompareResult& r) {
+  const bool noise = !r.tie_noise_percent.empty();
+  std::ostringstream s;
+  s.precision(3);
+  s << "<table><tr><th>target faces</th><th>% less image error with VG</th>";
+  if (noise) s << "<th>near-tie runs (V in [0.99, 1]) vs QB, %</th><th>VG's lead is</th>";
+  s << "</tr>\n";
+  for (std::size_t i = 0; i < r.targets.size(); ++i) {
+    s << "<tr><td>" << r.targets[i] << "</td><td>" << r.less_image_error_percent_per_level[i] << "</td>";
+    if (noise) {
+      s << "<td>";
+      for (std::size_t k = 0; k < r.tie_noise_percent[i].size(); ++k) s << (k ? ", " : "") << r.tie_noise_percent[i][k];
+      const std::string verdict = tie_noise_verdict(r, i);
+      s << "</td><td>" << (verdict == "inside" ? "inside the near-tie spread" : verdict + " the near-tie spread") << "</td>";
+    }
+    s << "</tr>\n";
+  }
+  s << "</table>\n";
+  if (noise) {
+    s << "<p>Near-tie runs: VG with V drawn from [0.99, 1] orders collapses as QB does except where costs are "
+         "within 2%; how far they land from QB is how much the order of near-equal collapses alone moves a "
+         "level.</p>\n";
+  }
+  return s.str();
+}
+
 std::string html(const CompareResult& r, const std::string& input_name, std::size_t middle) {
   std::ostringstream s;
   s.precision(4);
@@ -177,6 +222,7 @@ std::string html(const CompareResult& r, const std::string& input_name, std::siz
     << " s; QB run " << r.seconds_qb << " s; VG run " << r.seconds_vg << " s.</p>\n"
     << "<p><b>VG has " << r.less_image_error_percent
     << "% less image error than QB</b> (mean over the levels, Zhang &amp; Turk Table 2).</p>\n"
+    << per_level_table(r)
     << "<table><tr><th>method</th><th>faces</th><th>seconds</th><th>image RMS</th><th>Hausdorff / diag</th>"
        "<th>RMS / diag</th><th>visible RMS / diag</th><th>mesh</th></tr>\n";
   for (const MethodView& m : methods(r)) {

@@ -32,6 +32,11 @@ struct CompareOptions {
   /// Metro face samples per direction; 0: 10 × the input's faces, at most 2,000,000.
   std::size_t metro_samples = 0;
   ImageErrorOptions image;
+  /// Runs of "QB up to near-ties": VG with V drawn uniformly from [0.99, 1] (seed = run), whose
+  /// queue differs from QB's only where costs are within 2%. Their image error against QB's
+  /// at each level measures how far the order of near-equal collapses alone moves a level;
+  /// a QB–VG difference inside that spread is not a lead. 0: not measured.
+  std::size_t tie_noise_runs = 0;
 };
 
 /// Throws UsageError for out-of-range values.
@@ -62,8 +67,13 @@ struct CompareResult {
   std::vector<std::size_t> targets;          ///< descending
   std::vector<CompareLevel> qb, vg;          ///< one per target, same order
   double seconds_qb = 0, seconds_vg = 0;     ///< each method's whole collapse run
-  /// Mean over the levels of 100·(QB − VG)/QB of the image RMS: Table 2's last column.
+  /// Per target: 100·(QB − VG)/QB of the image RMS; their mean is Table 2's last column.
+  std::vector<double> less_image_error_percent_per_level;
   double less_image_error_percent = 0;
+  /// Per target, with tie_noise_runs > 0: 100·(QB − run)/QB of the image RMS of each near-tie
+  /// run (CompareOptions::tie_noise_runs); empty otherwise.
+  std::vector<std::vector<double>> tie_noise_percent;
+  double seconds_tie_noise = 0;
 };
 
 /// Progress of the stages, for a progress bar.
@@ -84,6 +94,15 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
 /// written. `input_name` is what the report calls the input.
 std::vector<std::string> write_compare_report(const CompareResult& result, const Mesh& input,
                                               const std::string& input_name, const std::string& directory);
+
+/// Levels where VG's lead (less_image_error_percent_per_level) lies above, inside and below
+/// the range of the near-tie runs at that level (all "inside" counts 0 without runs).
+struct TieNoiseVerdict {
+  std::size_t above = 0, inside = 0, below = 0;
+};
+TieNoiseVerdict tie_noise_verdict(const CompareResult& result);
+/// "above", "inside" or "below" for level i; "" without near-tie runs.
+std::string tie_noise_verdict(const CompareResult& result, std::size_t level);
 
 /// Zhang & Turk's Table 2 row as text: faces, V(M), seconds of visibility and of VG
 /// simplification, % less image error with VG than QB.
