@@ -108,7 +108,7 @@ int run_compare(const Args& args) {
         .field("mesh_visibility", result.visibility.mesh)
         .field("less_image_error_with_vg_percent", result.less_image_error_percent);
     if (!result.tie_noise_percent.empty()) {
-      const TieNoiseVerdict v = tie_noise_verdict(result);
+      const TieNoiseCounts v = count_tie_noise_verdicts(result);
       json.key("levels_vs_tie_noise").begin_object()
           .field("above", v.above)
           .field("inside", v.inside)
@@ -128,7 +128,7 @@ int run_compare(const Args& args) {
   } else {
     std::cout << table2_row(result, name);
     if (!result.tie_noise_percent.empty()) {
-      const TieNoiseVerdict v = tie_noise_verdict(result);
+      const TieNoiseCounts v = count_tie_noise_verdicts(result);
       std::cout << "VG's lead against " << options.tie_noise_runs << " near-tie run(s), per level: above their spread at "
                 << v.above << ", inside at " << v.inside << ", below at " << v.below << " of " << result.targets.size()
                 << "\n";

@@ -93,7 +93,7 @@ TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
   ASSERT_EQ(r.tie_noise_percent.size(), 1u);
   ASSERT_EQ(r.tie_noise_percent[0].size(), 2u);
   for (double p : r.tie_noise_percent[0]) EXPECT_LT(p, r.less_image_error_percent_per_level[0]);
-  EXPECT_EQ(tie_noise_verdict(r, 0), "above");
+  EXPECT_EQ(tie_noise_verdict(r, 0), TieNoiseVerdict::above);
 }
 
 TEST(Compare, DefaultTargetsAreLogSpacedEvenAndDistinct) {
@@ -167,7 +167,7 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
     for (double p : runs) perturbed = perturbed || p != 0.0;
   }
   EXPECT_TRUE(perturbed);
-  const TieNoiseVerdict verdict = tie_noise_verdict(r);
+  const TieNoiseCounts verdict = count_tie_noise_verdicts(r);
   EXPECT_EQ(verdict.above + verdict.inside + verdict.below, 2u);
   for (const char* key : {"\"per_level\"", "\"tie_noise_percent\"", "\"tie_noise_verdict\"", "\"tie_noise_runs\": 2"})
     EXPECT_NE(text.find(key), std::string::npos) << key;

@@ -1,5 +1,4 @@
 #include "visimp/compare/compare.h"
-#include "visimp/core/stopwatch.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,11 +11,11 @@
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
 #include "visimp/core/portable_random.h"
+#include "visimp/core/stopwatch.h"
 #include "visimp/core/validate.h"
 
 namespace visimp {
 namespace {
-
 
 // Forwards one stage's progress to the compare observer.
 class StageProgress final : public RenderObserver, public SimplifyObserver {
@@ -168,25 +167,37 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   return r;
 }
 
-std::string tie_noise_verdict(const CompareResult& r, std::size_t level) {
-  if (level >= r.tie_noise_percent.size() || r.tie_noise_percent[level].empty()) return "";
+const char* to_string(TieNoiseVerdict verdict) {
+  switch (verdict) {
+    case TieNoiseVerdict::not_measured: return "not_measured";
+    case TieNoiseVerdict::above: return "above";
+    case TieNoiseVerdict::inside: return "inside";
+    case TieNoiseVerdict::below: return "below";
+  }
+  return "?";
+}
+
+TieNoiseVerdict tie_noise_verdict(const CompareResult& r, std::size_t level) {
+  if (level >= r.tie_noise_percent.size() || r.tie_noise_percent[level].empty()) return TieNoiseVerdict::not_measured;
   const std::vector<double>& runs = r.tie_noise_percent[level];
   const double lead = r.less_image_error_percent_per_level[level];
   // The runs and QB itself (0%) span the spread of near-tie orders.
   const double low = std::min(0.0, *std::min_element(runs.begin(), runs.end()));
   const double high = std::max(0.0, *std::max_element(runs.begin(), runs.end()));
-  return lead > high ? "above" : (lead < low ? "below" : "inside");
+  return lead > high ? TieNoiseVerdict::above : (lead < low ? TieNoiseVerdict::below : TieNoiseVerdict::inside);
 }
 
-TieNoiseVerdict tie_noise_verdict(const CompareResult& r) {
-  TieNoiseVerdict v;
+TieNoiseCounts count_tie_noise_verdicts(const CompareResult& r) {
+  TieNoiseCounts counts;
   for (std::size_t i = 0; i < r.targets.size(); ++i) {
-    const std::string verdict = tie_noise_verdict(r, i);
-    if (verdict == "above") ++v.above;
-    else if (verdict == "below") ++v.below;
-    else if (verdict == "inside") ++v.inside;
+    switch (tie_noise_verdict(r, i)) {
+      case TieNoiseVerdict::above: ++counts.above; break;
+      case TieNoiseVerdict::inside: ++counts.inside; break;
+      case TieNoiseVerdict::below: ++counts.below; break;
+      case TieNoiseVerdict::not_measured: break;
+    }
   }
-  return v;
+  return counts;
 }
 
 std::string table2_row(const CompareResult& r, const std::string& name) {

@@ -73,7 +73,7 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       .field("qb", r.seconds_qb)
       .field("vg", r.seconds_vg)
       .field("tie_noise", r.seconds_tie_noise)
-        .end_object();
+      .end_object();
   // Per level, VG's lead over QB and, when measured, the near-tie runs that say whether it
   // is more than the order of near-equal collapses.
   j.field("tie_noise_runs", r.tie_noise_percent.empty() ? std::size_t(0) : r.tie_noise_percent.front().size());
@@ -86,7 +86,7 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       j.key("tie_noise_percent").begin_array();
       for (double p : r.tie_noise_percent[i]) j.value(p);
       j.end_array();
-      j.field("tie_noise_verdict", tie_noise_verdict(r, i));
+      j.field("tie_noise_verdict", to_string(tie_noise_verdict(r, i)));
     }
     j.end_object();
   }
@@ -196,8 +196,7 @@ std::string per_level_table(const CompareResult& r) {
     if (noise) {
       s << "<td>";
       for (std::size_t k = 0; k < r.tie_noise_percent[i].size(); ++k) s << (k ? ", " : "") << r.tie_noise_percent[i][k];
-      const std::string verdict = tie_noise_verdict(r, i);
-      s << "</td><td>" << (verdict == "inside" ? "inside the near-tie spread" : verdict + " the near-tie spread") << "</td>";
+      s << "</td><td>" << to_string(tie_noise_verdict(r, i)) << " the near-tie spread</td>";
     }
     s << "</tr>\n";
   }

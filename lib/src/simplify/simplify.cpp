@@ -547,7 +547,7 @@ class CollapseEngine {
   std::size_t dropped_repeated_index_faces_ = 0;
   std::vector<std::vector<std::uint32_t>> vertex_faces_;
   // Per vertex the plain quadric Q (places the vertex, gives the error) and, under VG, right
-  // after it the cost quadric Q_v = Σ V(t)² K_t (orders the queue). Interleaved, both come in
+  // after it the cost quadric Q_v = Σ V(t)^P K_t (orders the queue). Interleaved, both come in
   // with one memory access: a separate array doubled the cache misses (VG +15–40% over QB).
   bool weighted_ = false;
   std::vector<Quadric> quadrics_;

@@ -95,14 +95,17 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
 std::vector<std::string> write_compare_report(const CompareResult& result, const Mesh& input,
                                               const std::string& input_name, const std::string& directory);
 
-/// Levels where VG's lead (less_image_error_percent_per_level) lies above, inside and below
-/// the range of the near-tie runs at that level (all "inside" counts 0 without runs).
-struct TieNoiseVerdict {
+/// Where VG's lead at a level (less_image_error_percent_per_level) lies against the range
+/// spanned by that level's near-tie runs and QB itself (0%).
+enum class TieNoiseVerdict { not_measured, above, inside, below };
+const char* to_string(TieNoiseVerdict verdict);
+TieNoiseVerdict tie_noise_verdict(const CompareResult& result, std::size_t level);
+
+/// How many levels got each verdict (all 0 without near-tie runs).
+struct TieNoiseCounts {
   std::size_t above = 0, inside = 0, below = 0;
 };
-TieNoiseVerdict tie_noise_verdict(const CompareResult& result);
-/// "above", "inside" or "below" for level i; "" without near-tie runs.
-std::string tie_noise_verdict(const CompareResult& result, std::size_t level);
+TieNoiseCounts count_tie_noise_verdicts(const CompareResult& result);
 
 /// Zhang & Turk's Table 2 row as text: faces, V(M), seconds of visibility and of VG
 /// simplification, % less image error with VG than QB.
