@@ -31,12 +31,6 @@ Quadric Quadric::plane(const Vec3& n, const Vec3& point, double weight) {
   return q;
 }
 
-Quadric& Quadric::operator*=(double s) {
-  a00 *= s; a01 *= s; a02 *= s; a11 *= s; a12 *= s; a22 *= s;
-  b0 *= s; b1 *= s; b2 *= s; c *= s; area *= s;
-  return *this;
-}
-
 namespace {
 
 // Minimiser of Q on p0 + t(p1 - p0), t in [0, 1].

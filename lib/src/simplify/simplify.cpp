@@ -80,8 +80,6 @@ struct CollapseProfile {
   VertexIndex opposite[2] = {0, 0};
   int num_removed = 0;
   Placement placement;
-  double cost = 0;   // Q(x) (QB) or Q_v(x) (VG): orders the queue
-  double plain = 0;  // Q(x): breaks VG's ties among collapses that only touch hidden faces
   double error = 0;  // RMS plane distance in the unit frame (= relative to the diagonal)
 };
 
@@ -367,34 +365,35 @@ class CollapseEngine {
   }
 
   // Collapsing (v0, v1): placed with the plain quadric; error = RMS distance of the placement
-  // to the merged planes; cost (the queue key) = Q(x) under QB, Q_v(x) under VG (eq. 5.9).
+  // to the merged planes. Needed when an entry is popped; a push needs only the key.
   void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
     const Quadric q = plain_quadric(v0) + plain_quadric(v1);
     p.placement = place(q, positions_[v0], positions_[v1]);
-    p.plain = p.placement.error;
-    p.cost = weighted_ ? (cost_quadric(v0) + cost_quadric(v1)).evaluate(p.placement.position) : p.plain;
-    p.error = std::sqrt(p.plain / std::max(q.area, 1e-300));
+    p.error = std::sqrt(p.placement.error / std::max(q.area, 1e-300));
   }
 
-  // The queue key: the float bits of the cost. Under VG every collapse among faces no camera
+  // The queue key: the float bits of the cost, Q(x) under QB and Q_v(x) under VG (eq. 5.9),
+  // at the placement x of the plain quadric. Under VG every collapse among faces no camera
   // saw costs exactly 0; instead of leaving their order to the heap, they are ordered by the
   // plain error, mapped into the keys of the subnormal floats — below every normal cost — so
   // hidden parts still lose their least important detail first. With V ≡ 1, Q_v = Q and
   // the keys are QB's.
-  std::uint32_t queue_key(const CollapseProfile& p) const {
-    if (!weighted_ || p.cost > 0 || !(p.plain > 0)) return detail::radix_key(static_cast<float>(p.cost));
+  std::uint32_t queue_key(VertexIndex v0, VertexIndex v1, const Placement& placement) const {
+    const double plain = placement.error;
+    if (!weighted_) return detail::radix_key(static_cast<float>(plain));
+    const double cost = Quadric::evaluate_sum(cost_quadric(v0), cost_quadric(v1), placement.position);
+    if (cost > 0 || !(plain > 0)) return detail::radix_key(static_cast<float>(cost));
     // The float bits of the plain error without their 8 lowest bits: monotone, 2^-15
     // relative resolution at every scale, and at most 0x7f8000, below the first normal float.
     // (A linear map of the plain error gave every small error the same key, leaving hidden
     // parts to the heap's order and to many refused collapses.)
-    return 1u + (detail::radix_key(static_cast<float>(p.plain)) >> 8);
+    return 1u + (detail::radix_key(static_cast<float>(plain)) >> 8);
   }
 
   void push_edge(VertexIndex a, VertexIndex b) {
     if ((flags_[a] | flags_[b]) & kLocked) return;
-    CollapseProfile p;
-    evaluate(a, b, p);
-    heap_.push({queue_key(p), a, b, clock_});
+    const Placement placement = place(plain_quadric(a) + plain_quadric(b), positions_[a], positions_[b]);
+    heap_.push({queue_key(a, b, placement), a, b, clock_});
   }
 
   bool is_stale(const HeapEntry& e) const {

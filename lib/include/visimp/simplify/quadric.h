@@ -29,11 +29,26 @@ struct Quadric {
   }
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
   /// Scales every term (and the area): the VG weights V(t)².
-  Quadric& operator*=(double s);
+  Quadric& operator*=(double s) {
+    a00 *= s; a01 *= s; a02 *= s; a11 *= s; a12 *= s; a22 *= s;
+    b0 *= s; b1 *= s; b2 *= s; c *= s; area *= s;
+    return *this;
+  }
   friend Quadric operator*(Quadric a, double s) { return a *= s; }
 
   /// Q(p), clamped at 0 (rounding can make it slightly negative).
-  double evaluate(const Vec3& p) const {
+  double evaluate(const Vec3& p) const { return evaluate_terms(a00, a01, a02, a11, a12, a22, b0, b1, b2, c, p); }
+
+  /// (q + r)(p) without storing the sum: VG's cost per candidate edge. The arithmetic is
+  /// (q + r).evaluate(p)'s, so the bits are too (with V ≡ 1 the cost must equal QB's key).
+  static double evaluate_sum(const Quadric& q, const Quadric& r, const Vec3& p) {
+    return evaluate_terms(q.a00 + r.a00, q.a01 + r.a01, q.a02 + r.a02, q.a11 + r.a11, q.a12 + r.a12, q.a22 + r.a22,
+                    q.b0 + r.b0, q.b1 + r.b1, q.b2 + r.b2, q.c + r.c, p);
+  }
+
+ private:
+  static double evaluate_terms(double a00, double a01, double a02, double a11, double a12, double a22, double b0,
+                               double b1, double b2, double c, const Vec3& p) {
     const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
     const double ay = a01 * p.x + a11 * p.y + a12 * p.z;
     const double az = a02 * p.x + a12 * p.y + a22 * p.z;
