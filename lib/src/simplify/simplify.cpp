@@ -366,7 +366,7 @@ class CollapseEngine {
 
   // Collapsing (v0, v1): placed with the plain quadric; error = RMS distance of the placement
   // to the merged planes. Needed when an entry is popped; a push needs only the key.
-  void evaluate(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
+  void place_and_measure(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
     const Quadric q = plain_quadric(v0) + plain_quadric(v1);
     p.placement = place(q, positions_[v0], positions_[v1]);
     p.error = std::sqrt(p.placement.error / std::max(q.area, 1e-300));
@@ -415,7 +415,7 @@ class CollapseEngine {
       ++p.num_removed;
     }
     if (p.num_removed == 0) return false;
-    evaluate(e.v0, e.v1, p);
+    place_and_measure(e.v0, e.v1, p);
     return true;
   }
 

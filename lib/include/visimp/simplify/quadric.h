@@ -42,8 +42,8 @@ struct Quadric {
   /// (q + r)(p) without storing the sum: VG's cost per candidate edge. The arithmetic is
   /// (q + r).evaluate(p)'s, so the bits are too (with V ≡ 1 the cost must equal QB's key).
   static double evaluate_sum(const Quadric& q, const Quadric& r, const Vec3& p) {
-    return evaluate_terms(q.a00 + r.a00, q.a01 + r.a01, q.a02 + r.a02, q.a11 + r.a11, q.a12 + r.a12, q.a22 + r.a22,
-                    q.b0 + r.b0, q.b1 + r.b1, q.b2 + r.b2, q.c + r.c, p);
+    return evaluate_terms(q.a00 + r.a00, q.a01 + r.a01, q.a02 + r.a02, q.a11 + r.a11, q.a12 + r.a12,
+                          q.a22 + r.a22, q.b0 + r.b0, q.b1 + r.b1, q.b2 + r.b2, q.c + r.c, p);
   }
 
  private:
