@@ -96,6 +96,24 @@ TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
   EXPECT_EQ(tie_noise_verdict(r, 0), TieNoiseVerdict::above);
 }
 
+TEST(Compare, TieNoiseVerdictCountsQbItselfAsANearTie) {
+  // Per level: VG's lead against the range of the runs and QB's own 0%.
+  CompareResult r;
+  r.targets = {400, 300, 200, 100, 50};
+  r.less_image_error_percent_per_level = {3.0, 1.0, -2.0, 0.5, 1.0};
+  r.tie_noise_percent = {{-1.0, 2.0}, {-1.0, 2.0}, {-1.0, 2.0}, {1.0, 2.0}, {}};
+  EXPECT_EQ(tie_noise_verdict(r, 0), TieNoiseVerdict::above);
+  EXPECT_EQ(tie_noise_verdict(r, 1), TieNoiseVerdict::inside);
+  EXPECT_EQ(tie_noise_verdict(r, 2), TieNoiseVerdict::below);
+  EXPECT_EQ(tie_noise_verdict(r, 3), TieNoiseVerdict::inside);  // runs all above 0: QB's 0% is the low end
+  EXPECT_EQ(tie_noise_verdict(r, 4), TieNoiseVerdict::not_measured);
+  const TieNoiseCounts counts = count_tie_noise_verdicts(r);
+  EXPECT_EQ(counts.above, 1u);
+  EXPECT_EQ(counts.inside, 2u);
+  EXPECT_EQ(counts.below, 1u);
+  EXPECT_STREQ(to_string(TieNoiseVerdict::below), "below");
+}
+
 TEST(Compare, DefaultTargetsAreLogSpacedEvenAndDistinct) {
   const std::vector<std::size_t> t = default_targets(100000, 7, 0.02, 0.30);
   ASSERT_EQ(t.size(), 7u);
