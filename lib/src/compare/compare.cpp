@@ -17,6 +17,12 @@
 namespace visimp {
 namespace {
 
+// Zhang & Turk's Table 2 measure for one level: how much less image RMS error `other` has
+// than QB, in percent of QB's (0 when QB's is 0: nothing to improve on).
+double percent_less_than_qb(double qb_rms, double other_rms) {
+  return qb_rms > 0 ? 100.0 * (qb_rms - other_rms) / qb_rms : 0.0;
+}
+
 // Forwards one stage's progress to the compare observer.
 class StageProgress final : public RenderObserver, public SimplifyObserver {
  public:
@@ -146,9 +152,8 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
       double seconds = 0;
       const std::vector<CompareLevel> levels = run_method(input, near_tie, r.targets, progress, seconds);
       for (std::size_t i = 0; i < levels.size(); ++i) {
-        const double qb_rms = r.qb[i].image.rms;
         const double run_rms = image_error(input, levels[i].mesh, options.image).rms;
-        r.tie_noise_percent[i].push_back(qb_rms > 0 ? 100.0 * (qb_rms - run_rms) / qb_rms : 0.0);
+        r.tie_noise_percent[i].push_back(percent_less_than_qb(r.qb[i].image.rms, run_rms));
       }
     }
     r.seconds_tie_noise = seconds_since(t);
@@ -159,7 +164,7 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   r.less_image_error_percent_per_level.assign(r.targets.size(), 0.0);
   for (std::size_t i = 0; i < r.targets.size(); ++i) {
     if (!(r.qb[i].image.rms > 0)) continue;
-    r.less_image_error_percent_per_level[i] = 100.0 * (r.qb[i].image.rms - r.vg[i].image.rms) / r.qb[i].image.rms;
+    r.less_image_error_percent_per_level[i] = percent_less_than_qb(r.qb[i].image.rms, r.vg[i].image.rms);
     sum += r.less_image_error_percent_per_level[i];
     ++counted;
   }
