@@ -8,6 +8,9 @@
 //
 // usage: bench_simplify [--vg-overhead] [MESH.ply ...]   (default: dragon, kicad_dsub62_male, fandisk_cad)
 //        --vg-overhead: only the last table (VG's cost over QB once V is known)
+//        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply
+//          one simplify() to 10%, V from the file's face quality (a `visimp visibility` output);
+//          vg-ones: VG with V = 1. For instruction counts (vg_overhead_instructions.sh).
 
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
@@ -186,7 +189,35 @@ void vg_overhead(const Mesh& input, const std::string& name, double ratio, int r
 
 }  // namespace
 
+// One simplify() call, nothing else timed: callgrind counts it with
+// --toggle-collect='visimp::simplify(*' (the reading and the V set-up stay outside).
+int single_run(const std::string& mode, const std::string& path) {
+  const Mesh input = visimp::read_mesh(path);
+  visimp::SimplifyOptions o;
+  o.target_ratio = 0.1;
+  if (mode != "qb") {
+    if (!input.has_face_quality()) {
+      std::fprintf(stderr, "bench_simplify: %s has no face quality to take V from\n", path.c_str());
+      return 1;
+    }
+    o.method = visimp::SimplifyMethod::vg;
+    o.face_visibility = mode == "vg-ones" ? std::vector<float>(input.num_faces(), 1.0f) : input.face_quality;
+  }
+  const visimp::Simplified out = visimp::simplify(input, o);
+  std::printf("%s %zu faces, %zu collapses, %zu refused\n", mode.c_str(), out.result.faces_out, out.result.collapses,
+              out.result.rejected_collapses);
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 4 && std::string(argv[1]) == "--single-run") {
+    const std::string mode = argv[2];
+    if (mode != "qb" && mode != "vg-ones" && mode != "vg") {
+      std::fprintf(stderr, "bench_simplify: --single-run takes qb, vg-ones or vg, not '%s'\n", mode.c_str());
+      return 2;
+    }
+    return single_run(mode, argv[3]);
+  }
   std::vector<std::string> meshes;
   bool overhead_only = false;
   for (int i = 1; i < argc; ++i) {
