@@ -105,6 +105,25 @@ TEST(Simplify, FrozenBoundaryNeverMoves) {
   EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
 }
 
+TEST(Simplify, FrozenBoundaryTakesInEveryInteriorVertex) {
+  // A flat 6×6 grid (72 faces) with its outline frozen: the 25 interior vertices can only
+  // disappear by collapsing onto the outline (a free vertex merges into a locked one, which
+  // stays put). Flat, so every such collapse costs 0 and the end is the outline alone: 24
+  // vertices triangulated by 24 − 2 = 22 faces, the square's area exactly, error 0. When
+  // locked vertices took in nothing, interior vertices whose every neighbour was on the
+  // outline were stuck.
+  SimplifyOptions o;
+  o.target_faces = 1;
+  o.freeze_boundary = true;
+  const Simplified s = simplify(test::grid(6), o);
+  EXPECT_EQ(s.mesh.num_vertices(), 24u);
+  EXPECT_EQ(s.mesh.num_faces(), 22u);
+  EXPECT_EQ(s.result.max_error, 0.0);
+  EXPECT_NEAR(analyze(s.mesh).area, 36.0, 1e-12);
+  for (const Vec3& p : s.mesh.positions) EXPECT_TRUE(p.x == 0 || p.x == 6 || p.y == 0 || p.y == 6);
+  EXPECT_TRUE(validate(s.mesh).ok());
+}
+
 TEST(Simplify, ClosedMeshWithOddTargetEndsOneBelow) {
   const Mesh sphere = test::icosphere(2);  // 320 faces; a closed mesh loses 2 per collapse
   const Simplified s = simplify_to(sphere, 101);
@@ -290,6 +309,7 @@ TEST_P(RealMeshInvariants, SimplifyKeepsEveryPromise) {
     }
     const MeshStats after = analyze(s.mesh);
     EXPECT_LE(after.non_manifold_edges, before.non_manifold_edges);
+    EXPECT_LE(after.non_manifold_vertices, before.non_manifold_vertices);
     EXPECT_LE(after.misoriented_edges, before.misoriented_edges);
     EXPECT_LE(after.boundary_edges, before.boundary_edges);
     EXPECT_TRUE(std::isfinite(s.result.max_error));

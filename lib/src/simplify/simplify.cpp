@@ -51,7 +51,7 @@ const char* to_string(StopReason reason) {
 namespace {
 
 constexpr std::uint8_t kAlive = 1;
-constexpr std::uint8_t kLocked = 2;     // never moved or removed
+constexpr std::uint8_t kLocked = 2;     // never moved or removed; a free neighbour may collapse onto it
 constexpr std::uint8_t kBoundary = 4;   // on an open boundary
 constexpr std::uint8_t kRejected = 8;   // a collapse at this vertex was refused; retry after nearby changes
 
@@ -357,7 +357,6 @@ class CollapseEngine {
 
   void push_initial_edges() {
     for (VertexIndex v = 0; v < positions_.size(); ++v) {
-      if (flags_[v] & kLocked) continue;
       for_each_neighbor(v, [&](VertexIndex w) {
         if (w > v) push_edge(v, w);
       });
@@ -368,8 +367,19 @@ class CollapseEngine {
   // to the merged planes. Needed when an entry is popped; a push needs only the key.
   void place_and_measure(VertexIndex v0, VertexIndex v1, CollapseProfile& p) const {
     const Quadric q = plain_quadric(v0) + plain_quadric(v1);
-    p.placement = place(q, positions_[v0], positions_[v1]);
+    p.placement = placement(v0, v1, q);
     p.error = std::sqrt(p.placement.error / std::max(q.area, 1e-300));
+  }
+
+  // Where v1 goes when merged into v0: place()'s point, or v0 itself when v0 is locked (a
+  // half-edge collapse: the locked vertex and its non-manifold surroundings stay as they are).
+  Placement placement(VertexIndex v0, VertexIndex v1, const Quadric& q) const {
+    if (!(flags_[v0] & kLocked)) return place(q, positions_[v0], positions_[v1]);
+    Placement onto_v0;
+    onto_v0.position = positions_[v0];
+    onto_v0.kind = PlacementKind::endpoint0;
+    onto_v0.error = q.evaluate(onto_v0.position);
+    return onto_v0;
   }
 
   // The queue key: the float bits of the cost, Q(x) under QB and Q_v(x) under VG (eq. 5.9),
@@ -390,10 +400,17 @@ class CollapseEngine {
     return 1u + (detail::radix_key(static_cast<float>(plain)) >> 8);
   }
 
+  // Queues the collapse of edge (a, b). Between two free vertices b merges into a; when one
+  // end is locked the free one merges into it (v0 = the locked end), so non-manifold,
+  // misoriented or frozen parts still take in their free neighbours instead of stopping the
+  // run; an edge between two locked vertices never collapses. A free vertex has one fan and
+  // only manifold, consistently oriented edges, so the edge itself is always manifold.
   void push_edge(VertexIndex a, VertexIndex b) {
-    if ((flags_[a] | flags_[b]) & kLocked) return;
-    const Placement placement = place(plain_quadric(a) + plain_quadric(b), positions_[a], positions_[b]);
-    heap_.push({queue_key(a, b, placement), a, b, clock_});
+    const bool a_locked = flags_[a] & kLocked, b_locked = flags_[b] & kLocked;
+    if (a_locked && b_locked) return;
+    if (b_locked) std::swap(a, b);
+    const Placement at = placement(a, b, plain_quadric(a) + plain_quadric(b));
+    heap_.push({queue_key(a, b, at), a, b, clock_});
   }
 
   bool is_stale(const HeapEntry& e) const {
