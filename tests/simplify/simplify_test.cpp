@@ -124,6 +124,29 @@ TEST(Simplify, FrozenBoundaryTakesInEveryInteriorVertex) {
   EXPECT_TRUE(validate(s.mesh).ok());
 }
 
+TEST(Simplify, HalfEdgeCollapseNeverMisorientsANonManifoldEdge) {
+  // Regression (fuzz_simplify): a free vertex merging into a locked one took a face off a
+  // 3-face edge, and the two faces left ran the same way (non-manifold edge → misoriented).
+  //
+  //          c            faces (a, b, c) twice: edge ab has 3 faces (non-manifold), bc and
+  //         / \           ca are misoriented, so a, b, c are locked; e is free (one face,
+  //        a---b          two boundary edges) and could only merge into a or b, removing
+  //         \ /           (b, a, e), the one face running b → a.
+  //          e
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}};
+  m.faces = {{0, 1, 2}, {0, 1, 2}, {1, 0, 3}};
+  const MeshStats before = analyze(m);
+  ASSERT_EQ(before.non_manifold_edges, 1u);
+  ASSERT_EQ(before.misoriented_edges, 2u);
+  const Simplified s = simplify_to(m, 1);
+  const MeshStats after = analyze(s.mesh);
+  EXPECT_LE(after.misoriented_edges, before.misoriented_edges);
+  EXPECT_LE(after.non_manifold_vertices, before.non_manifold_vertices);
+  EXPECT_EQ(s.mesh.num_faces(), 3u);  // nothing may go: every collapse would break the fan
+  EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
+}
+
 TEST(Simplify, ClosedMeshWithOddTargetEndsOneBelow) {
   const Mesh sphere = test::icosphere(2);  // 320 faces; a closed mesh loses 2 per collapse
   const Simplified s = simplify_to(sphere, 101);

@@ -413,6 +413,19 @@ class CollapseEngine {
     heap_.push({queue_key(a, b, at), a, b, clock_});
   }
 
+  // One or two faces on edge (a, b), and two run it in opposite directions.
+  bool is_manifold_oriented_edge(VertexIndex a, VertexIndex b) const {
+    int faces = 0, outgoing = 0;
+    for (std::uint32_t f : vertex_faces_[a]) {
+      const Face& face = faces_[f];
+      if (!has_vertex(face, b)) continue;
+      ++faces;
+      const int k = face[0] == a ? 0 : (face[1] == a ? 1 : 2);
+      outgoing += face[(k + 1) % 3] == b;
+    }
+    return faces == 1 || (faces == 2 && outgoing == 1);
+  }
+
   bool is_stale(const HeapEntry& e) const {
     return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) || modified_[e.v0] > e.time ||
            modified_[e.v1] > e.time;
@@ -460,12 +473,17 @@ class CollapseEngine {
     //   interior edge (2 faces) joining two boundary vertices  -> reject (pinches a bridge)
     //   opposite vertex interior with 3 faces                  -> reject (folds a tetrahedron)
     //   opposite vertex whose only face is removed             -> reject (leaves it isolated)
+    //   v0 locked, removed face on a non-manifold or misoriented
+    //   edge (v0, opposite)                                    -> reject (breaks up a non-manifold fan)
     const bool b0 = flags_[p.v0] & kBoundary, b1 = flags_[p.v1] & kBoundary;
     if (p.num_removed == 2 && b0 && b1) return false;
     for (int i = 0; i < p.num_removed; ++i) {
       const VertexIndex c = p.opposite[i];
       const std::size_t degree = vertex_faces_[c].size();
       if (degree <= 1 || (!(flags_[c] & kBoundary) && degree <= 3)) return false;
+      // A free v0 has only manifold, consistent edges; a locked one may not, and taking one
+      // face off a 3-face edge leaves two that may run the same way (found by fuzz_simplify).
+      if ((flags_[p.v0] & kLocked) && !is_manifold_oriented_edge(p.v0, c)) return false;
     }
 
     // Normal change: no remaining face may turn by more than the limit or become degenerate.
