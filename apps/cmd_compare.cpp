@@ -98,6 +98,8 @@ int run_compare(const Args& args) {
   }
   const std::vector<std::string> written = write_compare_report(result, mesh, in, directory);
   const std::string name = in == "-" ? "stdin" : std::filesystem::path(in).stem().string();
+  if (const std::string note = unreached_levels_note(result); !note.empty())
+    std::cerr << "visimp compare: note: " << note << "\n";
   if (stream.json) {
     JsonWriter json(std::cout);
     json.begin_object()

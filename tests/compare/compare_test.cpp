@@ -164,6 +164,7 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
     }
   }
   EXPECT_LT(r.qb[0].image.rms, r.qb[1].image.rms);  // fewer faces, more error
+  EXPECT_EQ(unreached_levels_note(r), "");          // both levels reached
   std::ostringstream row;
   row << "QB," << r.qb[0].target << "," << r.qb[0].faces << ",";
   EXPECT_EQ(csv[1].rfind(row.str(), 0), 0u) << csv[1];
@@ -195,6 +196,39 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
   EXPECT_NE(table2_row(r, "bunny").find("| bunny | 3674 |"), std::string::npos);
   const std::string html = lines_of(dir + "/report.html").front();
   EXPECT_EQ(html, "<!DOCTYPE html>");
+}
+
+TEST(Compare, LevelsBelowWhatTheMethodsCanReachAreReportedAsSuch) {
+  // An icosphere (320 faces) and 20 separate tetrahedra (80 faces): a tetrahedron cannot
+  // collapse and the sphere not below one, so nothing goes under 84 faces. The 60-face level
+  // cannot be reached by either method; the 200-face one can.
+  Mesh m = test::icosphere(2, 0.5);
+  for (int t = 0; t < 20; ++t) {
+    const auto base = static_cast<VertexIndex>(m.num_vertices());
+    const Vec3 at{1.5 + 0.5 * (t % 5), 0.5 * (t / 5), 0};
+    for (const Vec3& corner : {Vec3{0, 0, 0}, Vec3{0.2, 0, 0}, Vec3{0, 0.2, 0}, Vec3{0, 0, 0.2}}) m.positions.push_back(at + corner);
+    for (const Face& f : {Face{0, 2, 1}, Face{0, 1, 3}, Face{0, 3, 2}, Face{1, 2, 3}})
+      m.faces.push_back({base + f[0], base + f[1], base + f[2]});
+  }
+  const auto renderer = make_raster_renderer({64, 0});
+  const CompareResult r = compare_methods(m, octahedron_cameras(0), *renderer, quick_options({200, 60}));
+  for (const std::vector<CompareLevel>* levels : {&r.qb, &r.vg}) {
+    EXPECT_EQ((*levels)[0].stop_reason, StopReason::target_reached);
+    EXPECT_LE((*levels)[0].faces, 200u);
+    EXPECT_EQ((*levels)[1].stop_reason, StopReason::no_legal_collapse);
+    EXPECT_EQ((*levels)[1].faces, 84u);
+  }
+  const std::string note = unreached_levels_note(r);
+  EXPECT_NE(note.find("QB stops at 84 faces, above 1 of the 2 targets (no_legal_collapse)"), std::string::npos) << note;
+  EXPECT_NE(note.find("VG stops at 84 faces"), std::string::npos) << note;
+  const std::string dir = test::temp_dir("compare_unreached");
+  write_compare_report(r, m, "spheres", dir);
+  const std::vector<std::string> csv = lines_of(dir + "/results.csv");
+  ASSERT_EQ(csv.size(), 5u);
+  EXPECT_NE(csv[2].find(",no_legal_collapse"), std::string::npos) << csv[2];  // QB at 60
+  std::ifstream report(dir + "/report.html");
+  const std::string page((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("<b>Note:</b> QB stops at 84 faces"), std::string::npos);
 }
 
 TEST(Compare, RejectsTargetsAtOrAboveTheInput) {

@@ -48,6 +48,7 @@ std::vector<CompareLevel> run_method(const Mesh& input_with_v, SimplifyOptions o
     out[i].target = targets[i];
     out[i].faces = levels[i].mesh.num_faces();
     out[i].seconds_simplify = levels[i].result.seconds;
+    out[i].stop_reason = levels[i].result.stop_reason;
     out[i].mesh = std::move(levels[i].mesh);
   }
   return out;
@@ -170,6 +171,24 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   }
   r.less_image_error_percent = counted ? sum / double(counted) : 0.0;
   return r;
+}
+
+std::string unreached_levels_note(const CompareResult& r) {
+  std::ostringstream s;
+  for (const auto& [name, levels] : {std::pair{"QB", &r.qb}, std::pair{"VG", &r.vg}}) {
+    std::size_t unreached = 0;
+    const CompareLevel* lowest = nullptr;
+    for (const CompareLevel& l : *levels) {
+      if (l.faces <= l.target) continue;
+      ++unreached;
+      if (lowest == nullptr || l.faces < lowest->faces) lowest = &l;
+    }
+    if (unreached == 0) continue;
+    s << (s.tellp() > 0 ? "; " : "") << name << " stops at " << lowest->faces << " faces, above " << unreached
+      << " of the " << levels->size() << " targets (" << to_string(lowest->stop_reason) << ")";
+  }
+  if (s.tellp() > 0) s << ": those levels repeat the mesh each method stopped at";
+  return s.str();
 }
 
 const char* to_string(TieNoiseVerdict verdict) {

@@ -39,7 +39,7 @@ std::string csv(const CompareResult& r) {
   s.precision(9);
   s << "method,target,faces,seconds_simplify,seconds_visibility,seconds_total,hausdorff,hausdorff_relative,"
        "mean_a_to_b_relative,mean_b_to_a_relative,rms_relative,visible_mean_relative,visible_rms_relative,"
-       "visible_max_relative,image_rms,image_rms_per_pixel,seconds_metro,seconds_image\n";
+       "visible_max_relative,image_rms,image_rms_per_pixel,seconds_metro,seconds_image,stop_reason\n";
   for (const MethodView& m : methods(r)) {
     for (const CompareLevel& l : *m.levels) {
       const SurfaceDistance& d = l.distance;
@@ -47,7 +47,8 @@ std::string csv(const CompareResult& r) {
         << l.seconds_simplify + m.extra_seconds << ',' << d.hausdorff << ',' << d.hausdorff / r.diagonal << ','
         << d.a_to_b.mean / r.diagonal << ',' << d.b_to_a.mean / r.diagonal << ',' << d.rms / r.diagonal << ','
         << d.visible.mean / r.diagonal << ',' << d.visible.rms / r.diagonal << ',' << d.visible.max / r.diagonal << ','
-        << l.image.rms << ',' << l.image.rms_per_pixel << ',' << l.seconds_metro << ',' << l.seconds_image << '\n';
+        << l.image.rms << ',' << l.image.rms_per_pixel << ',' << l.seconds_metro << ',' << l.seconds_image << ','
+        << to_string(l.stop_reason) << '\n';
     }
   }
   return s.str();
@@ -99,6 +100,7 @@ std::string json(const CompareResult& r, const std::string& input_name) {
           .field("method", m.name[0] == 'Q' ? "qb" : "vg")
           .field("target", l.target)
           .field("faces", l.faces)
+          .field("stop_reason", to_string(l.stop_reason))
           .field("mesh", level_mesh_name(m.name, l));
       j.key("seconds").begin_object()
           .field("simplify", l.seconds_simplify)
@@ -220,8 +222,9 @@ std::string html(const CompareResult& r, const std::string& input_name, std::siz
     << 100.0 * r.visibility.stats.hidden_area_fraction << "%; visibility " << r.seconds_visibility
     << " s; QB run " << r.seconds_qb << " s; VG run " << r.seconds_vg << " s.</p>\n"
     << "<p><b>VG has " << r.less_image_error_percent
-    << "% less image error than QB</b> (mean over the levels, Zhang &amp; Turk Table 2).</p>\n"
-    << per_level_table(r)
+    << "% less image error than QB</b> (mean over the levels, Zhang &amp; Turk Table 2).</p>\n";
+  if (const std::string note = unreached_levels_note(r); !note.empty()) s << "<p><b>Note:</b> " << xml_escape(note) << ".</p>\n";
+  s << per_level_table(r)
     << "<table><tr><th>method</th><th>faces</th><th>seconds</th><th>image RMS</th><th>Hausdorff / diag</th>"
        "<th>RMS / diag</th><th>visible RMS / diag</th><th>mesh</th></tr>\n";
   for (const MethodView& m : methods(r)) {

@@ -53,6 +53,10 @@ struct CompareLevel {
   SurfaceDistance distance;     ///< input (A, with V) against the result (B)
   ImageError image;
   double seconds_metro = 0, seconds_image = 0;
+  /// Why the run ended at this level: target_reached, or no_legal_collapse when the method
+  /// cannot get down to the target (locked non-manifold parts, components at their minimum):
+  /// then `faces` > `target` and later levels repeat the same mesh.
+  StopReason stop_reason = StopReason::target_reached;
   Mesh mesh;
 };
 
@@ -106,6 +110,11 @@ struct TieNoiseCounts {
   std::size_t above = 0, inside = 0, below = 0;
 };
 TieNoiseCounts count_tie_noise_verdicts(const CompareResult& result);
+
+/// One sentence naming, per method, the levels it could not reach and the face count it
+/// stopped at ("QB stops at 7088 faces, above 6 of the 7 targets (no_legal_collapse); ...");
+/// empty when both methods reached every target.
+std::string unreached_levels_note(const CompareResult& result);
 
 /// Zhang & Turk's Table 2 row as text: faces, V(M), seconds of visibility and of VG
 /// simplification, % less image error with VG than QB.
