@@ -98,8 +98,8 @@ int run_compare(const Args& args) {
   }
   const std::vector<std::string> written = write_compare_report(result, mesh, in, directory);
   const std::string name = in == "-" ? "stdin" : std::filesystem::path(in).stem().string();
-  if (const std::string note = unreached_levels_note(result); !note.empty())
-    std::cerr << "visimp compare: note: " << note << "\n";
+  const std::string unreached = unreached_levels_note(result);
+  if (!unreached.empty()) std::cerr << "visimp compare: note: " << unreached << "\n";
   if (stream.json) {
     JsonWriter json(std::cout);
     json.begin_object()
@@ -108,7 +108,8 @@ int run_compare(const Args& args) {
         .field("directory", directory)
         .field("faces_in", result.faces_in)
         .field("mesh_visibility", result.visibility.mesh)
-        .field("less_image_error_with_vg_percent", result.less_image_error_percent);
+        .field("less_image_error_with_vg_percent", result.less_image_error_percent)
+        .field("unreached_levels", unreached);  // empty when both methods reached every level
     if (!result.tie_noise_percent.empty()) {
       const TieNoiseCounts v = count_tie_noise_verdicts(result);
       json.key("levels_vs_tie_noise").begin_object()

@@ -231,6 +231,8 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
                        "--metro-samples 100000 --image-resolution 64 --json", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"less_image_error_with_vg_percent\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"unreached_levels\": \"\""), std::string::npos) << r.out;  // the bunny reaches both
+  EXPECT_EQ(r.err.find("note:"), std::string::npos) << r.err;
   for (const char* f : {"report.html", "results.csv", "results.json", "image_error_vs_seconds.svg", "visibility.png",
                         "side_by_side.png"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/cmp/" + f)) << f;
