@@ -6,8 +6,10 @@
 // result against the input with the same sampled two-sided distance (visimp metrics, 1M
 // samples per direction, fixed seed) and prints ratios against visimp.
 //
-// usage: bench_simplify [--vg-overhead] [MESH.ply ...]   (default: dragon, kicad_dsub62_male, fandisk_cad)
+// usage: bench_simplify [--vg-overhead] [--cpu-limit S] [MESH.ply ...]
+//          (default meshes: dragon, kicad_dsub62_male, fandisk_cad)
 //        --vg-overhead: only the last table (VG's cost over QB once V is known)
+//        --cpu-limit S: a method run past S CPU seconds is killed and reported failed (300)
 //        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply
 //          one simplify() to 10%, V from the file's face quality (a `visimp visibility` output);
 //          vg-ones: VG with V = 1. For instruction counts (vg_overhead_instructions.sh).
@@ -124,14 +126,17 @@ struct Measured {
 // Runs `method` in a child (child_process.h) that writes its mesh to `path`, then measures
 // the result against the input.
 Measured measure(const Mesh& input, std::size_t target, const std::function<Mesh(const Mesh&, std::size_t)>& method,
-                 const std::string& path) {
-  const bench::ChildResult child = bench::run_in_child(1, [&] {
-    const double t0 = bench::cpu_seconds();
-    const Mesh out = method(input, target);
-    const double cpu = bench::cpu_seconds() - t0;
-    visimp::write_mesh(out, path);
-    return std::vector<double>{cpu};
-  });
+                 const std::string& path, double cpu_limit) {
+  const bench::ChildResult child = bench::run_in_child(
+      1,
+      [&] {
+        const double t0 = bench::cpu_seconds();
+        const Mesh out = method(input, target);
+        const double cpu = bench::cpu_seconds() - t0;
+        visimp::write_mesh(out, path);
+        return std::vector<double>{cpu};
+      },
+      cpu_limit);
   Measured m;
   if (!child.ok) return m;
   const Mesh out = visimp::read_mesh(path);
@@ -220,9 +225,15 @@ int main(int argc, char** argv) {
   }
   std::vector<std::string> meshes;
   bool overhead_only = false;
+  double cpu_limit = 300;  // per peer run; a run past it is reported as failed
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--vg-overhead") overhead_only = true;
+    else if (std::string(argv[i]) == "--cpu-limit" && i + 1 < argc) cpu_limit = std::atof(argv[++i]);
     else meshes.push_back(argv[i]);
+  }
+  if (!(cpu_limit >= 1)) {
+    std::fprintf(stderr, "bench_simplify: --cpu-limit takes seconds >= 1\n");
+    return 2;
   }
   if (meshes.empty())
     for (const char* f : {"dragon.ply", "kicad_dsub62_male.ply", "fandisk_cad.ply"})
@@ -240,9 +251,10 @@ int main(int argc, char** argv) {
       const std::size_t target = std::size_t(ratio * double(input.num_faces()));
       Measured ref;
       for (const auto& [label, method] : methods) {
-        const Measured m = measure(input, target, method, tmp);
+        const Measured m = measure(input, target, method, tmp, cpu_limit);
         if (!m.ok) {
-          std::printf("| %s | %zu | %g | %s | failed | | | | | | | | |\n", name.c_str(), input.num_faces(), ratio, label);
+          std::printf("| %s | %zu | %g | %s | failed (crash or over %g CPU s) | | | | | | | | |\n", name.c_str(),
+                      input.num_faces(), ratio, label, cpu_limit);
           continue;
         }
         if (std::string(label) == "visimp-qb") ref = m;

@@ -4,10 +4,12 @@
 #pragma once
 
 #include <malloc.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <functional>
@@ -51,12 +53,20 @@ struct ChildResult {
 };
 
 /// Runs `method` in a child; it returns `count` numbers of its own (stage times, results).
-inline ChildResult run_in_child(std::size_t count, const std::function<std::vector<double>()>& method) {
+/// A child past `cpu_limit_seconds` of CPU is killed (SIGXCPU) and reported as failed, so a peer
+/// that never returns on some input (CGAL's edge_collapse on non-manifold meshes) cannot stall
+/// the whole run.
+inline ChildResult run_in_child(std::size_t count, const std::function<std::vector<double>()>& method,
+                                double cpu_limit_seconds = 300) {
   int fds[2];
   if (pipe(fds) != 0) return {};
+  std::fflush(nullptr);  // or the child inherits unwritten output and may write it again
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
+    const auto limit = static_cast<rlim_t>(cpu_limit_seconds);
+    const rlimit cpu{limit, limit + 1};
+    setrlimit(RLIMIT_CPU, &cpu);
     malloc_trim(0);  // hand freed heap pages back, or the method reuses them unseen by RSS
     reset_peak_rss();
     const long base = rss_kb();
