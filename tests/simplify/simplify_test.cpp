@@ -18,6 +18,7 @@
 #include "visimp/core/validate.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/metrics/surface_distance.h"
+#include "visimp/visibility/visibility.h"
 
 namespace visimp {
 namespace {
@@ -310,6 +311,42 @@ bool single_layer(const std::string& path) {
 
 class RealMeshInvariants : public ::testing::TestWithParam<std::string> {};
 
+// Everything simplify() promises for one run on a real mesh.
+void expect_every_promise(const std::string& path, const Mesh& input, const MeshStats& before, const SimplifyOptions& o,
+                          bool check_folds = true) {
+  const Simplified s = simplify(input, o);
+  expect_all_finite(s.mesh);
+  EXPECT_TRUE(validate(s.mesh).ok());
+  const std::size_t target = s.result.target_faces;
+  if (s.result.stop_reason == StopReason::target_reached) {
+    EXPECT_LE(s.mesh.num_faces(), target);
+    EXPECT_GE(s.mesh.num_faces() + 1, target);
+  } else {
+    // Only locked (non-manifold) parts may stop a run early, and then it says so.
+    EXPECT_GT(before.non_manifold_edges + before.non_manifold_vertices, 0u) << to_string(s.result.stop_reason);
+    EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
+  }
+  const MeshStats after = analyze(s.mesh);
+  EXPECT_LE(after.non_manifold_edges, before.non_manifold_edges);
+  EXPECT_LE(after.non_manifold_vertices, before.non_manifold_vertices);
+  EXPECT_LE(after.misoriented_edges, before.misoriented_edges);
+  EXPECT_LE(after.boundary_edges, before.boundary_edges);
+  EXPECT_TRUE(std::isfinite(s.result.max_error));
+  // A closed 2-manifold input stays closed and manifold.
+  if (before.closed_manifold()) {
+    EXPECT_TRUE(after.closed_manifold());
+  }
+  // No flipped faces on single-layer surfaces: at most 0.5% of faces point against the
+  // input near them, and no edge folds back onto itself. (Thin CAD plates are flattened
+  // into back-to-back sheets at high ratios: known, see docs/simplify.md.)
+  if (single_layer(path)) {
+    EXPECT_LE(flipped_fraction(input, s.mesh), 0.005);
+    if (check_folds) {
+      EXPECT_EQ(fold_edges(s.mesh), 0u);
+    }
+  }
+}
+
 TEST_P(RealMeshInvariants, SimplifyKeepsEveryPromise) {
   const Mesh input = read_mesh(GetParam());
   const Mesh copy = input;
@@ -318,36 +355,19 @@ TEST_P(RealMeshInvariants, SimplifyKeepsEveryPromise) {
     SCOPED_TRACE(ratio);
     SimplifyOptions o;
     o.target_ratio = ratio;
-    const Simplified s = simplify(input, o);
-    expect_all_finite(s.mesh);
-    EXPECT_TRUE(validate(s.mesh).ok());
-    const std::size_t target = s.result.target_faces;
-    if (s.result.stop_reason == StopReason::target_reached) {
-      EXPECT_LE(s.mesh.num_faces(), target);
-      EXPECT_GE(s.mesh.num_faces() + 1, target);
-    } else {
-      // Only locked (non-manifold) parts may stop a run early, and then it says so.
-      EXPECT_GT(before.non_manifold_edges + before.non_manifold_vertices, 0u) << to_string(s.result.stop_reason);
-      EXPECT_EQ(s.result.stop_reason, StopReason::no_legal_collapse);
-    }
-    const MeshStats after = analyze(s.mesh);
-    EXPECT_LE(after.non_manifold_edges, before.non_manifold_edges);
-    EXPECT_LE(after.non_manifold_vertices, before.non_manifold_vertices);
-    EXPECT_LE(after.misoriented_edges, before.misoriented_edges);
-    EXPECT_LE(after.boundary_edges, before.boundary_edges);
-    EXPECT_TRUE(std::isfinite(s.result.max_error));
-    // A closed 2-manifold input stays closed and manifold.
-    if (before.closed_manifold()) {
-      EXPECT_TRUE(after.closed_manifold());
-    }
-    // No flipped faces on single-layer surfaces: at most 0.5% of faces point against the
-    // input near them, and no edge folds back onto itself. (Thin CAD plates are flattened
-    // into back-to-back sheets at high ratios: known, see docs/simplify.md.)
-    if (single_layer(GetParam())) {
-      EXPECT_LE(flipped_fraction(input, s.mesh), 0.005);
-      EXPECT_EQ(fold_edges(s.mesh), 0u);
-    }
+    expect_every_promise(GetParam(), input, before, o);
   }
+  // VG with the mesh's own V: hidden parts are collapsed first and hardest (thinned pins,
+  // crushed interiors), a sequence QB never runs. Every promise holds but one: a hidden
+  // interior crushed at no cost may fold onto itself (the teapot's spout, 3 edges at 10%;
+  // docs/simplify.md, Known limits), so folds are not counted here.
+  SCOPED_TRACE("vg");
+  SimplifyOptions vg;
+  vg.target_ratio = 0.1;
+  vg.method = SimplifyMethod::vg;
+  const auto renderer = make_raster_renderer({160, 2});
+  vg.face_visibility = compute_visibility(input, octahedron_cameras(1), *renderer).face;
+  expect_every_promise(GetParam(), input, before, vg, false);
   EXPECT_EQ(input.faces, copy.faces);  // input never modified
   EXPECT_EQ(input.positions.size(), copy.positions.size());
 }
