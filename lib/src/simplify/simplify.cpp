@@ -33,6 +33,8 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
                   "reject collapses turning a face normal by more than DEG degrees, (0, 180]"),
       option_spec("--visibility-exponent", "P", o.visibility_exponent,
                   "VG: weight face quadrics by V^P in the queue order (2: Zhang & Turk eq. 5.10)"),
+      switch_spec("--no-folds", o.prevent_folds,
+                  "reject collapses that fold a face back onto its neighbour (thin plates keep their rims)"),
       switch_spec("--crease-visibility", o.crease_visibility,
                   "VG: a face meeting a more visible face at a crease (> 30 deg) takes its V"),
   };
@@ -96,7 +98,8 @@ class CollapseEngine {
   CollapseEngine(const Mesh& input, const SimplifyOptions& options)
       : input_(input),
         frame_(unit_frame(bounding_box(input))),
-        cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)) {
+        cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)),
+        prevent_folds_(options.prevent_folds) {
     const std::size_t nv = input.num_vertices();
     positions_.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) positions_[v] = frame_.to_unit(input.positions[v]);
@@ -488,6 +491,7 @@ class CollapseEngine {
 
     // Normal change: no remaining face may turn by more than the limit or become degenerate.
     const Vec3 x = p.placement.position;
+    moved_faces_.clear();
     for (VertexIndex moved : {p.v0, p.v1}) {
       for (std::uint32_t f : vertex_faces_[moved]) {
         if (is_removed(p, f)) continue;
@@ -501,9 +505,39 @@ class CollapseEngine {
         const double len_new = norm(n_new);
         const double len_old = norm(n_old);
         if (len_old > 0 && dot(n_old, n_new) < cos_max_normal_change_ * len_old * len_new) return false;
+        if (prevent_folds_) moved_faces_.push_back({f, n_old, n_new});
       }
     }
-    return true;
+    return !(prevent_folds_ && folds_an_edge(p));
+  }
+
+  // With prevent_folds: true when a face around the merged vertex would fold back onto a face
+  // across one of its edges (normals more than ~154° apart) where the two did not fold before.
+  // The normal-change limit bounds each face's turn, not the angle between neighbours: a thin
+  // plate whose rim is collapsed away ends as two sheets back to back.
+  bool folds_an_edge(const CollapseProfile& p) {
+    constexpr double kFoldCosine = -0.9;
+    auto folded = [&](const Vec3& a, const Vec3& b) { return dot(a, b) < kFoldCosine * norm(a) * norm(b); };
+    auto renamed = [&](VertexIndex v) { return v == p.v1 ? p.v0 : v; };
+    for (const MovedFace& m : moved_faces_) {
+      const Face& face = faces_[m.face];
+      for (int k = 0; k < 3; ++k) {
+        VertexIndex a = renamed(face[k]), b = renamed(face[(k + 1) % 3]);
+        if (a == p.v0) std::swap(a, b);  // a: the end that does not move
+        for (std::uint32_t g : vertex_faces_[a]) {
+          if (g == m.face || is_removed(p, g)) continue;
+          const Face& other = faces_[g];
+          const bool shares = b == p.v0 ? has_vertex(other, p.v0) || has_vertex(other, p.v1) : has_vertex(other, b);
+          if (!shares) continue;
+          Vec3 g_old = cross(positions_[other[1]] - positions_[other[0]], positions_[other[2]] - positions_[other[0]]);
+          Vec3 g_new = g_old;
+          for (const MovedFace& n : moved_faces_)
+            if (n.face == g) g_new = n.n_new;
+          if (folded(m.n_new, g_new) && !folded(m.n_old, g_old)) return true;
+        }
+      }
+    }
+    return false;
   }
 
   void remove_from(std::vector<std::uint32_t>& list, std::uint32_t f) {
@@ -574,6 +608,12 @@ class CollapseEngine {
   const Mesh& input_;
   UnitFrame frame_;
   double cos_max_normal_change_;
+  bool prevent_folds_ = false;
+  struct MovedFace {
+    std::uint32_t face;
+    Vec3 n_old, n_new;  // unnormalised normals before and after the candidate collapse
+  };
+  std::vector<MovedFace> moved_faces_;  // scratch of legal()
   std::vector<Vec3> positions_;                      // unit frame
   std::vector<Face> faces_;
   std::vector<std::uint8_t> face_alive_;

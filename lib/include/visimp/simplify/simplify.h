@@ -47,6 +47,11 @@ struct SimplifyOptions {
   /// Reject a collapse that would turn any remaining face's normal by more than this angle,
   /// in degrees (0, 180]. 180 only rejects exactly flipped faces.
   double max_normal_change_deg = 80.0;
+  /// Also reject a collapse after which a face around the new vertex and a face across one of
+  /// its edges point more than ~154° apart (fold back onto each other) where they did not
+  /// before. Off by default for now: it changes CAD results (thin plates keep their rims
+  /// instead of becoming two sheets back to back); see docs/simplify.md, Known limits.
+  bool prevent_folds = false;
   SimplifyMethod method = SimplifyMethod::qb;
   /// VG: V(t) in [0, 1] of every input face (visibility.h computes it). Unused by QB.
   std::vector<float> face_visibility;
