@@ -1,5 +1,5 @@
 // libFuzzer target for read → simplify → write. The first byte picks the format and the
-// target ratio; the rest is the file. Accepted meshes must simplify to a valid mesh with
+// target ratio, the last byte's low bit --no-folds; the rest is the file. Accepted meshes must simplify to a valid mesh with
 // finite coordinates that writes without error and has no more non-manifold edges,
 // non-manifold vertices or misoriented edges than the input.
 #include <algorithm>
@@ -34,6 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (mesh.num_faces() > 20000) return 0;  // keep each run fast
   SimplifyOptions options;
   options.target_ratio = ratio;
+  options.prevent_folds = (data[size - 1] & 1) != 0;  // the last byte's low bit: both legality sets
   const Simplified out = simplify(mesh, options);
   if (!validate(out.mesh).ok()) std::abort();
   std::vector<std::uint8_t> proper(mesh.num_faces());
