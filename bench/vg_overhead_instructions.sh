@@ -9,7 +9,7 @@
 # usage: bench/vg_overhead_instructions.sh [BUILD_DIR] [MESH.ply ...]
 #   BUILD_DIR: a build with the benchmarks (default build/bench, `cmake --workflow --preset bench`)
 #   meshes default to ../shared/meshes/{kicad_dsub62_male,fandisk_cad,dragon}.ply
-# needs valgrind (.ci/install-deps installs it). The dragon takes about 4 minutes a run.
+# needs valgrind (.ci/install-deps installs it). About 4 minutes in all, 3 of them the dragon.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build/bench}
