@@ -1,7 +1,7 @@
 // libFuzzer target for read → simplify → write. The first byte picks the format and the
-// target ratio, the last byte's low bit --no-folds; the rest is the file. Accepted meshes must simplify to a valid mesh with
-// finite coordinates that writes without error and has no more non-manifold edges,
-// non-manifold vertices or misoriented edges than the input.
+// target ratio, the last byte's low bit --no-folds; the rest is the file. Accepted meshes must
+// simplify to a valid mesh with finite coordinates that writes without error and has no more
+// non-manifold edges, non-manifold vertices or misoriented edges than the input.
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
