@@ -23,7 +23,9 @@ std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh) {
   const double scale = 1.0 / std::max({extent.x, extent.y, extent.z, 1e-300});
   std::vector<std::uint64_t> keyed(mesh.num_faces());
   for (std::size_t f = 0; f < keyed.size(); ++f) {
-    const Face& face = mesh.faces[f];
+    // Summed in index order, so the key does not depend on how the face is wound or rotated.
+    Face face = mesh.faces[f];
+    std::sort(face.begin(), face.end());
     const Vec3 centroid = (mesh.positions[face[0]] + mesh.positions[face[1]] + mesh.positions[face[2]]) / 3.0;
     keyed[f] = (std::uint64_t{morton_code((centroid - box.min) * scale)} << 32) | f;
   }

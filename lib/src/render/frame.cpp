@@ -26,7 +26,7 @@ RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces, const
     scene.positions.push_back({static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z)});
   }
   scene.faces = mesh.faces;
-  scene.cull_back_faces = cull_back_faces;
+  scene.culled_faces = cull_back_faces ? scene.faces.size() : 0;
   return scene;
 }
 
@@ -34,6 +34,7 @@ void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& 
   clusters.assign((faces.size() + kClusterSize - 1) / kClusterSize, NormalCone{});
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     const std::size_t first = c * kClusterSize, last = std::min(faces.size(), first + kClusterSize);
+    if (last > culled_faces) continue;  // drawn from both sides: never all turned away
     Vec3 sum;
     for (std::size_t t = first; t < last; ++t) sum += Vec3(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
     const double length = norm(sum);

@@ -121,11 +121,9 @@ class GlWorker {
     glViewport(0, 0, resolution, resolution);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    if (scene.cull_back_faces) {
-      glEnable(GL_CULL_FACE);
-      glFrontFace(GL_CCW);
-      glCullFace(GL_BACK);
-    }
+    glFrontFace(GL_CCW);
+    glCullFace(GL_BACK);
+    culled_vertex_count_ = static_cast<GLsizei>(3 * scene.culled_faces);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     if (glGetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while setting up");
   }
@@ -147,7 +145,15 @@ class GlWorker {
     const GLfloat far = 1.0f;
     glClearBufferuiv(GL_COLOR, 0, zero);
     glClearBufferfv(GL_DEPTH, 0, &far);
-    glDrawArrays(GL_TRIANGLES, 0, vertex_count_);
+    // Faces of closed outward surfaces first, culled; then the ones drawn from both sides.
+    if (culled_vertex_count_ > 0) {
+      glEnable(GL_CULL_FACE);
+      glDrawArrays(GL_TRIANGLES, 0, culled_vertex_count_);
+      glDisable(GL_CULL_FACE);
+    }
+    if (vertex_count_ > culled_vertex_count_) {
+      glDrawArrays(GL_TRIANGLES, culled_vertex_count_, vertex_count_ - culled_vertex_count_);
+    }
     const std::size_t pixels = static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_);
     frame.ids.resize(pixels);
     frame.depth.resize(pixels);
@@ -169,6 +175,7 @@ class GlWorker {
   OSMesaContext context_ = nullptr;
   GLint right_ = -1, up_ = -1, direction_ = -1;
   GLsizei vertex_count_ = 0;
+  GLsizei culled_vertex_count_ = 0;  // the first culled_faces faces of the scene
 };
 
 class OsmesaRenderer final : public Renderer {

@@ -81,7 +81,7 @@ class RasterRenderer final : public Renderer {
     const std::array<float, 3> direction{static_cast<float>(frame.view.direction.x),
                                          static_cast<float>(frame.view.direction.y),
                                          static_cast<float>(frame.view.direction.z)};
-    const bool use_clusters = scene.cull_back_faces && !scene.clusters.empty();
+    const bool use_clusters = scene.culled_faces > 0 && !scene.clusters.empty();
     const std::size_t face_count = scene.faces.size();
     // Pass 1, branch-free per face: keep the faces that may own a pixel centre (front-facing
     // when culling, and with a pixel centre inside their box). Most faces of a big mesh
@@ -94,7 +94,7 @@ class RasterRenderer final : public Renderer {
       for (std::size_t f = first; f < last; ++f) {
         const Face& face = scene.faces[f];
         const SnappedVertex p0 = snapped[face[0]], p1 = snapped[face[1]], p2 = snapped[face[2]];
-        const bool facing = !scene.cull_back_faces ||
+        const bool facing = f >= scene.culled_faces ||
                             std::int64_t{p1.x - p0.x} * (p2.y - p0.y) > std::int64_t{p1.y - p0.y} * (p2.x - p0.x);
         const bool has_x = first_centre(std::min({p0.x, p1.x, p2.x})) <= last_centre(std::max({p0.x, p1.x, p2.x}));
         const bool has_y = first_centre(std::min({p0.y, p1.y, p2.y})) <= last_centre(std::max({p0.y, p1.y, p2.y}));
@@ -127,7 +127,7 @@ class RasterRenderer final : public Renderer {
     std::int64_t area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (area2 == 0) return;
     if (area2 < 0) {
-      if (scene.cull_back_faces) return;
+      if (f < scene.culled_faces) return;
       std::swap(b, c);
       std::swap(s1, s2);
       area2 = -area2;

@@ -14,13 +14,13 @@
 namespace visimp {
 namespace {
 
-constexpr char kMagic[8] = {'V', 'I', 'S', 'I', 'M', 'P', 'T', '1'};
+constexpr char kMagic[8] = {'V', 'I', 'S', 'I', 'M', 'P', 'T', '2'};
 
 }  // namespace
 
 bool TallyKey::operator==(const TallyKey& o) const {
   return mesh_hash == o.mesh_hash && camera_hash == o.camera_hash && camera_count == o.camera_count &&
-         faces == o.faces && resolution == o.resolution && flags == o.flags &&
+         faces == o.faces && one_sided_faces == o.one_sided_faces && resolution == o.resolution && flags == o.flags &&
          worst_view_cosine == o.worst_view_cosine && depth_tolerance_pixels == o.depth_tolerance_pixels;
 }
 
@@ -51,6 +51,17 @@ void VisibilityTally::merge(const VisibilityTally& other) {
     seen[t] += other.seen[t];
     total[t] += other.total[t];
   }
+  for (std::size_t t = 0; t < seen_back.size(); ++t) {
+    seen_back[t] += other.seen_back[t];
+    total_back[t] += other.total_back[t];
+  }
+}
+
+void VisibilityTally::reset_sums() {
+  seen.assign(key.faces, 0);
+  total.assign(key.faces, 0);
+  seen_back.assign(key.faces - key.one_sided_faces, 0);
+  total_back.assign(key.faces - key.one_sided_faces, 0);
 }
 
 bool VisibilityTally::complete() const {
@@ -89,6 +100,7 @@ void VisibilityTally::write(const std::string& path) const {
   w.u64(key.camera_hash);
   w.u64(key.camera_count);
   w.u64(key.faces);
+  w.u64(key.one_sided_faces);
   w.u32(key.resolution);
   w.u32(key.flags);
   w.f64(key.worst_view_cosine);
@@ -100,6 +112,8 @@ void VisibilityTally::write(const std::string& path) const {
   }
   for (std::uint32_t v : seen) w.u32(v);
   for (std::uint32_t v : total) w.u32(v);
+  for (std::uint32_t v : seen_back) w.u32(v);
+  for (std::uint32_t v : total_back) w.u32(v);
   AtomicFileWriter file(path);
   file.stream().write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
   file.commit();
@@ -114,6 +128,7 @@ VisibilityTally VisibilityTally::read(const std::string& path) {
   t.key.camera_hash = r.u64();
   t.key.camera_count = r.u64();
   t.key.faces = r.u64();
+  t.key.one_sided_faces = r.u64();
   t.key.resolution = r.u32();
   t.key.flags = r.u32();
   t.key.worst_view_cosine = r.f64();
@@ -126,16 +141,27 @@ VisibilityTally VisibilityTally::read(const std::string& path) {
     t.camera_ranges.emplace_back(first, last);
   }
   if (t.key.camera_count > kMaxCameras) throw IoError(path, "more than 65536 cameras");
-  if (r.remaining() != t.key.faces * 8) {
+  if (t.key.one_sided_faces > t.key.faces) throw IoError(path, "more one-sided faces than faces");
+  const std::uint64_t two_sided = t.key.faces - t.key.one_sided_faces;
+  // Compare in faces, not bytes: a huge face count must not overflow the expected size.
+  if (r.remaining() % 8 != 0 || r.remaining() / 8 < t.key.faces ||
+      (r.remaining() / 8 - t.key.faces) != two_sided) {
     throw IoError(path, "expected " + std::to_string(t.key.faces) + " faces of tallies (" +
-                            std::to_string(t.key.faces * 8) + " bytes), found " + std::to_string(r.remaining()));
+                            std::to_string(two_sided) + " two-sided), found " + std::to_string(r.remaining()) +
+                            " bytes");
   }
-  t.seen.resize(t.key.faces);
-  t.total.resize(t.key.faces);
+  t.reset_sums();
   for (auto& v : t.seen) v = r.u32();
   for (auto& v : t.total) v = r.u32();
+  for (auto& v : t.seen_back) v = r.u32();
+  for (auto& v : t.total_back) v = r.u32();
   for (std::size_t f = 0; f < t.seen.size(); ++f) {
     if (t.seen[f] > t.total[f]) throw IoError(path, "face " + std::to_string(f) + " is seen more than it is faced");
+  }
+  for (std::size_t f = 0; f < t.seen_back.size(); ++f) {
+    if (t.seen_back[f] > t.total_back[f]) {
+      throw IoError(path, "face " + std::to_string(t.key.one_sided_faces + f) + " is seen from behind more than it is faced");
+    }
   }
   return t;
 }

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/content_hash.h"
@@ -23,6 +24,7 @@
 #include "visimp/core/spatial_order.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
+#include "visimp/core/orientation.h"
 #include "visimp/core/union_find.h"
 
 namespace visimp {
@@ -47,16 +49,17 @@ struct FaceTally {
 // Per-worker accumulators; see the file comment for the four steps.
 class TallyConsumer final : public FrameConsumer {
   struct Worker {
-    std::vector<FaceTally> tally;
+    std::vector<FaceTally> tally;       // front side, every face
+    std::vector<FaceTally> back;        // back side, faces from one_sided_faces on
     std::vector<std::uint16_t> owned;  // fractional F: pixels owned in the current frame (saturating)
     std::vector<std::uint32_t> seen_in_frame;  // binary F: number of the last frame the face owned a pixel in
     std::uint32_t frame_number = 0;
-    std::vector<float> depth_gap;      // per vertex: how far behind the depth buffer it is
+    std::vector<std::uint8_t> vertex_seen;  // per vertex: passes the depth test in this frame
   };
  public:
   TallyConsumer(const RenderScene& scene, const std::vector<std::array<float, 3>>& face_normals,
-                const VisibilityOptions& options)
-      : scene_(scene), face_normals_(face_normals), options_(options) {}
+                std::size_t one_sided_faces, const VisibilityOptions& options)
+      : scene_(scene), face_normals_(face_normals), one_sided_(one_sided_faces), options_(options) {}
 
   void begin(unsigned workers) override { workers_.resize(workers); }
 
@@ -65,9 +68,10 @@ class TallyConsumer final : public FrameConsumer {
     const std::size_t faces = scene_.faces.size();
     if (w.tally.empty()) {
       w.tally.resize(faces);
+      w.back.resize(faces - one_sided_);
       if (options_.fractional) w.owned.assign(faces, 0);
       w.seen_in_frame.assign(faces, 0);
-      w.depth_gap.assign(scene_.positions.size(), 0.0f);
+      w.vertex_seen.assign(scene_.positions.size(), 0);
     }
     const std::array<float, 3> direction = to_float(frame.view.direction);
     const std::uint32_t* ids = frame.ids.data();
@@ -83,29 +87,37 @@ class TallyConsumer final : public FrameConsumer {
         if (ids[p] != 0) seen[ids[p] - 1] = frame_number;
       }
     }
-    if (options_.depth_test) measure_depth_gaps(frame, w.depth_gap);
-    const std::array<float, 256> tolerance = tolerance_by_weight(frame.resolution());
+    if (options_.depth_test) mark_seen_vertices(frame, w.vertex_seen);
+    const std::uint8_t* vertex_seen = w.vertex_seen.data();
 
     for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
-      // No face of such a cluster has weight for this camera.
+      // No face of such a cluster has weight for this camera (never set for two-sided faces).
       if (scene_.clusters[first / RenderScene::kClusterSize].all_back_facing(direction)) continue;
       const std::size_t last = std::min(faces, first + RenderScene::kClusterSize);
-      if (options_.fractional) {
-        for (std::size_t t = first; t < last; ++t) add_fractional(t, direction, frame, tolerance, w);
-        continue;
-      }
-      // Binary F without data-dependent branches: a face with q = 0 adds nothing anyway.
       for (std::size_t t = first; t < last; ++t) {
-        const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
-        FaceTally& tally = w.tally[t];
-        tally.total += q;
-        bool visible = w.seen_in_frame[t] == frame_number;
+        const float cosine = dot(face_normals_[t], direction);
+        bool visible = false;
+        if (options_.fractional) {
+          visible = w.owned[t] != 0;
+        } else {
+          visible = w.seen_in_frame[t] == frame_number;
+        }
         if (options_.depth_test) {
           const Face& f = scene_.faces[t];
-          const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
-          visible |= gap <= tolerance[q >> 8];
+          visible |= (vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0;
         }
-        tally.seen += visible ? q : 0u;
+        // Binary F without data-dependent branches: a side with q = 0 adds nothing anyway.
+        const std::uint32_t q = quantize_weight(cosine);
+        const std::uint32_t fraction_q = options_.fractional ? fractional_weight(t, q, frame, w) : q;
+        w.tally[t].total += q;
+        w.tally[t].seen += visible ? fraction_q : 0u;
+        if (t >= one_sided_) {
+          const std::uint32_t qb = quantize_weight(-cosine);
+          const std::uint32_t fraction_qb = options_.fractional ? fractional_weight(t, qb, frame, w) : qb;
+          FaceTally& back = w.back[t - one_sided_];
+          back.total += qb;
+          back.seen += visible ? fraction_qb : 0u;
+        }
       }
     }
     if (options_.fractional) {
@@ -115,24 +127,15 @@ class TallyConsumer final : public FrameConsumer {
     }
   }
 
-  // F = the fraction of the projected area that owns pixels; a face smaller than a pixel
-  // that is seen at all counts as wholly seen.
-  void add_fractional(std::size_t t, const std::array<float, 3>& direction, const Frame& frame,
-                      const std::array<float, 256>& tolerance, Worker& w) const {
-    const std::uint32_t q = quantize_weight(dot(face_normals_[t], direction));
-    if (q == 0) return;
-    FaceTally& tally = w.tally[t];
-    tally.total += q;
+  // Fractional F: q times the fraction of the projected area that owns pixels; a face
+  // smaller than a pixel that is seen at all counts as wholly seen.
+  std::uint32_t fractional_weight(std::size_t t, std::uint32_t q, const Frame& frame, const Worker& w) const {
+    if (q == 0) return 0;
     const Face& f = scene_.faces[t];
-    const std::uint32_t owned = w.owned[t];
-    if (owned == 0) {
-      const float gap = std::min({w.depth_gap[f[0]], w.depth_gap[f[1]], w.depth_gap[f[2]]});
-      if (!options_.depth_test || gap > tolerance[q >> 8]) return;
-    }
     const ScreenVertex &a = frame.vertices[f[0]], &b = frame.vertices[f[1]], &c = frame.vertices[f[2]];
     const float area = 0.5f * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
-    const float fraction = std::min(1.0f, std::max(static_cast<float>(owned), 1.0f) / std::max(area, 1.0f));
-    tally.seen += static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
+    const float fraction = std::min(1.0f, std::max(static_cast<float>(w.owned[t]), 1.0f) / std::max(area, 1.0f));
+    return static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
   }
 
   /// Sum of all workers' tallies.
@@ -142,47 +145,67 @@ class TallyConsumer final : public FrameConsumer {
         out.seen[t] += w.tally[t].seen;
         out.total[t] += w.tally[t].total;
       }
+      for (std::size_t t = 0; t < w.back.size(); ++t) {
+        out.seen_back[t] += w.back[t].seen;
+        out.total_back[t] += w.back[t].total;
+      }
     }
   }
 
  private:
-
-
-  // How far each vertex lies behind the farthest of the depth buffer's values at the four
-  // pixel centres around it (negative: in front). A vertex of the visible surface is at
-  // most slope × 0.71 px behind the nearest of those centres.
-  static void measure_depth_gaps(const Frame& frame, std::vector<float>& gap) {
+  // The depth test of one vertex against the surface drawn at the four pixel centres
+  // around it (docs/visibility.md, "The depth test"). The vertex is seen when
+  //   - it is no more than the tolerance behind the nearest of the four depths, or behind
+  //     their bilinear interpolation at the vertex (the surface shown there; exact for a
+  //     plane, so a face's own slope needs no allowance), or
+  //   - one of the four pixels shows the background (it sits on a silhouette) or a face
+  //     that has the vertex as a corner (it lies on the surface shown there).
+  // A slope allowance from the face's own angle, as before, let anything up to ~3 px
+  // behind a thin shell count as seen at grazing views; extending the planes of the faces
+  // shown instead fails on sub-pixel slivers of rounded edges, whose planes tilt anywhere.
+  void mark_seen_vertices(const Frame& frame, std::vector<std::uint8_t>& seen) const {
     const int size = frame.resolution();
     const auto row = static_cast<std::size_t>(size);
     const float* depth = frame.depth.data();
+    const std::uint32_t* ids = frame.ids.data();
+    const float tolerance = static_cast<float>(options_.depth_tolerance_pixels) / static_cast<float>(size);
     for (std::size_t i = 0; i < frame.vertices.size(); ++i) {
       const ScreenVertex& v = frame.vertices[i];
       // Screen coordinates are positive, so truncation is the floor (or 0 where clamped anyway).
       const int px = std::min(static_cast<int>(v.x - 0.5f), size - 2);
       const int py = std::min(static_cast<int>(v.y - 0.5f), size - 2);
       const std::size_t p = static_cast<std::size_t>(py) * row + static_cast<std::size_t>(px);
-      gap[i] = v.depth - std::max({depth[p], depth[p + 1], depth[p + row], depth[p + row + 1]});
+      const std::size_t corner[4] = {p, p + 1, p + row, p + row + 1};
+      const float d[4] = {depth[corner[0]], depth[corner[1]], depth[corner[2]], depth[corner[3]]};
+      const float z = v.depth - tolerance;
+      if (z <= std::min({d[0], d[1], d[2], d[3]})) {
+        seen[i] = 1;  // in front of every sample (the background has depth 1)
+        continue;
+      }
+      const float fx = std::clamp(v.x - 0.5f - static_cast<float>(px), 0.0f, 1.0f);
+      const float fy = std::clamp(v.y - 0.5f - static_cast<float>(py), 0.0f, 1.0f);
+      const float below = d[0] + (d[1] - d[0]) * fx, above = d[2] + (d[3] - d[2]) * fx;
+      if (z <= below + (above - below) * fy) {
+        seen[i] = 1;
+        continue;
+      }
+      bool on_surface = false;
+      for (int k = 0; k < 4 && !on_surface; ++k) {
+        const std::uint32_t id = ids[corner[k]];
+        if (id == 0) {
+          on_surface = true;
+        } else {
+          const Face& f = scene_.faces[id - 1];
+          on_surface = f[0] == i || f[1] == i || f[2] == i;
+        }
+      }
+      seen[i] = on_surface ? 1 : 0;
     }
-  }
-
-  // Depth tolerance of a face by its quantised weight q (= cos θ · 65535, binned by q >> 8):
-  // the base tolerance plus the depth change of the face's own plane over 0.71 px, with
-  // the slope capped at the worst viewing angle. The bin's lower edge is used, so the
-  // tolerance is never too small.
-  std::array<float, 256> tolerance_by_weight(int resolution) const {
-    std::array<float, 256> table;
-    const double pixel_depth = 1.0 / resolution;  // one pixel, in depth units
-    for (int b = 0; b < 256; ++b) {
-      const double c = std::max(b / 256.0, options_.worst_view_cosine);
-      const double tangent = std::sqrt(1.0 - c * c) / c;
-      table[static_cast<std::size_t>(b)] =
-          static_cast<float>((options_.depth_tolerance_pixels + 0.7072 * tangent) * pixel_depth);
-    }
-    return table;
   }
 
   const RenderScene& scene_;
   const std::vector<std::array<float, 3>>& face_normals_;
+  std::size_t one_sided_;
   const VisibilityOptions& options_;
   std::vector<Worker> workers_;
 };
@@ -196,7 +219,9 @@ std::vector<OptionSpec> describe_options(VisibilityOptions& o) {
       negated_switch_spec("--no-refine", o.refine, "do not split long edges (to study the effect)"),
       negated_switch_spec("--no-depth-test", o.depth_test, "only pixel ownership decides F (to study the effect)"),
       option_spec("--depth-tolerance", "PX", o.depth_tolerance_pixels,
-                  "depth-test tolerance in pixels, added to the slope allowance, [0, 16]"),
+                  "how far behind the surface at a neighbouring pixel a vertex still counts as seen, [0, 16]"),
+      switch_spec("--trust-winding", o.trust_winding,
+                  "take the input's normals as outward: one-sided F as in the paper (no reorientation)"),
       switch_spec("--fractional", o.fractional, "F = visible fraction of the projected area instead of 0/1"),
       option_spec("--max-refined-faces", "N", o.max_refined_faces, "refuse to refine beyond N faces"),
   };
@@ -236,41 +261,76 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   const auto start = std::chrono::steady_clock::now();
   check_options(options);
   check_render_options({resolution, 0});
-  stats_.input_faces = mesh.num_faces();
+  const std::size_t input_faces = mesh.num_faces();
+  stats_.input_faces = input_faces;
   stats_.resolution = resolution;
   for (const Face& f : mesh.faces) stats_.degenerate_faces += is_degenerate(mesh, f) ? 1 : 0;
 
-  const bool cull = back_faces_always_hidden(mesh);
+  // Canonical winding (core/orientation.h): the faces rendered do not depend on the input's.
+  std::vector<Face> canonical(input_faces);
+  input_reversed_.assign(input_faces, 0);
+  input_one_sided_.assign(input_faces, 0);
+  if (options.trust_winding) {
+    canonical = mesh.faces;
+    std::fill(input_one_sided_.begin(), input_one_sided_.end(), back_faces_always_hidden(mesh) ? 1 : 0);
+  } else {
+    const OrientationPatches patches = orientation_patches(mesh);
+    for (std::size_t f = 0; f < input_faces; ++f) {
+      input_reversed_[f] = patches.reversed[f];
+      input_one_sided_[f] = patches.closed[patches.patch_of_face[f]] && !is_degenerate(mesh, mesh.faces[f]) ? 1 : 0;
+      canonical[f] = canonical_face(mesh.faces[f], patches.reversed[f] != 0);
+    }
+  }
+  for (std::size_t f = 0; f < input_faces; ++f) stats_.one_sided_faces += input_one_sided_[f];
+  stats_.two_sided_faces = input_faces - stats_.one_sided_faces;
+
   const BoundingBox box = bounding_box(mesh);
   const double radius = view_radius(box);
   stats_.max_edge_length = refinement_edge_length(radius, resolution, options.worst_view_cosine);
-  if (options.refine) refined_ = refine_long_edges(mesh, stats_.max_edge_length, options.max_refined_faces);
+  if (options.refine) {
+    Mesh wound{mesh.positions, canonical, {}, {}};
+    refined_ = refine_long_edges(wound, stats_.max_edge_length, options.max_refined_faces);
+  }
   stats_.refinement_rounds = refined_ ? refined_->rounds : 0;
-  const Mesh& rendered = rendered_mesh();
-  stats_.refined_faces = rendered.num_faces();
-  stats_.back_faces_culled = cull;
-  // The scene holds the faces in spatial order and the vertices in order of first use.
-  scene_order_ = spatial_face_order(rendered);
-  const Vec3 center = bounding_box(rendered).center();
+  const std::vector<Vec3>& positions = refined_ ? refined_->mesh.positions : mesh.positions;
+  const std::vector<Face>& faces = refined_ ? refined_->mesh.faces : canonical;
+  auto parent_of = [&](std::size_t r) { return refined_ ? refined_->input_face[r] : r; };
+  stats_.refined_faces = faces.size();
+  // The scene holds the faces in spatial order, one-sided ones first (they may be culled),
+  // and the vertices in order of first use.
+  scene_order_ = spatial_face_order(rendered_mesh());
+  std::stable_partition(scene_order_.begin(), scene_order_.end(),
+                        [&](std::uint32_t r) { return input_one_sided_[parent_of(r)] != 0; });
+  const Vec3 center = bounding_box(rendered_mesh()).center();
   scene_.radius = radius;
-  scene_.cull_back_faces = cull;
-  scene_.faces.resize(rendered.num_faces());
-  unit_normals_.resize(rendered.num_faces());
+  scene_.faces.resize(faces.size());
+  unit_normals_.resize(faces.size());
+  one_sided_scene_faces_ = 0;
   constexpr VertexIndex kUnused = 0xffffffffu;
-  std::vector<VertexIndex> scene_vertex(rendered.num_vertices(), kUnused);
+  std::vector<VertexIndex> scene_vertex(positions.size(), kUnused);
   for (std::size_t t = 0; t < scene_order_.size(); ++t) {
-    const Face& f = rendered.faces[scene_order_[t]];
-    const Vec3 n = face_normal_unnormalized(rendered, f);
-    const bool degenerate = is_degenerate(rendered, f);
+    const Face& f = faces[scene_order_[t]];
+    one_sided_scene_faces_ += input_one_sided_[parent_of(scene_order_[t])];
+    const Vec3 n = cross(positions[f[1]] - positions[f[0]], positions[f[2]] - positions[f[0]]);
+    const bool degenerate = f[0] == f[1] || f[1] == f[2] || f[0] == f[2] ||
+                            is_degenerate_triangle(positions[f[0]], positions[f[1]], positions[f[2]]);
     unit_normals_[t] = degenerate ? std::array<float, 3>{0, 0, 0} : to_float(n / norm(n));
     for (int k = 0; k < 3; ++k) {
       VertexIndex& v = scene_vertex[f[k]];
       if (v == kUnused) {
         v = static_cast<VertexIndex>(scene_.positions.size());
-        scene_.positions.push_back(to_float(rendered.positions[f[k]] - center));
+        scene_.positions.push_back(to_float(positions[f[k]] - center));
       }
       scene_.faces[t][k] = v;
     }
+  }
+  scene_.culled_faces = one_sided_scene_faces_;
+  stats_.back_faces_culled = scene_.culled_faces == faces.size() && !faces.empty();
+  // Trusting the winding, every face is tallied from its front only (culled or not).
+  if (options.trust_winding) {
+    one_sided_scene_faces_ = faces.size();
+    stats_.one_sided_faces = input_faces;
+    stats_.two_sided_faces = 0;
   }
   scene_.compute_normal_cones(unit_normals_);
   mesh_hash_ = hash_mesh(mesh);
@@ -283,9 +343,10 @@ TallyKey VisibilityJob::key(const CameraSet& cameras) const {
   key.camera_hash = hash_cameras(cameras);
   key.camera_count = cameras.size();
   key.faces = scene_.faces.size();
+  key.one_sided_faces = one_sided_scene_faces_;
   key.resolution = static_cast<std::uint32_t>(resolution_);
   key.flags = (options_.fractional ? TallyKey::kFractional : 0) | (options_.depth_test ? TallyKey::kDepthTest : 0) |
-              (options_.refine ? 0 : TallyKey::kNoRefine);
+              (options_.refine ? 0 : TallyKey::kNoRefine) | (options_.trust_winding ? TallyKey::kTrustWinding : 0);
   key.worst_view_cosine = options_.worst_view_cosine;
   key.depth_tolerance_pixels = options_.depth_tolerance_pixels;
   return key;
@@ -307,9 +368,8 @@ VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t firs
   VisibilityTally tally;
   tally.key = key(cameras);
   if (first < last) tally.camera_ranges.emplace_back(first, last);
-  tally.seen.assign(scene_.faces.size(), 0);
-  tally.total.assign(scene_.faces.size(), 0);
-  TallyConsumer consumer(scene_, unit_normals_, options_);
+  tally.reset_sums();
+  TallyConsumer consumer(scene_, unit_normals_, one_sided_scene_faces_, options_);
   if (also != nullptr) {
     FrameFanOut both({&consumer, also});
     renderer.render(scene_, cameras, first, last, both, observer);
@@ -344,26 +404,45 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   const Mesh& rendered = rendered_mesh();
   const std::size_t input_faces = input_.num_faces();
 
-  // Input face V = area-weighted mean over its sub-faces that some camera faced.
-  std::vector<double> weighted(input_faces, 0.0), weight(input_faces, 0.0);
+  // Each side of an input face: V = area-weighted mean over its sub-faces that some camera
+  // faced from that side. Side 0 is the canonical front (outward on closed surfaces).
+  std::vector<double> weighted[2] = {std::vector<double>(input_faces, 0.0), std::vector<double>(input_faces, 0.0)};
+  std::vector<double> weight[2] = {std::vector<double>(input_faces, 0.0), std::vector<double>(input_faces, 0.0)};
+  auto add_side = [&](int side, std::size_t parent, double area, std::uint32_t seen, std::uint32_t total) {
+    if (total == 0) return;
+    // A sub-face of zero area still decides a face that has nothing else.
+    const double w = area > 0 ? area : 1e-300;
+    weighted[side][parent] += w * static_cast<double>(seen) / static_cast<double>(total);
+    weight[side][parent] += w;
+  };
   for (std::size_t t = 0; t < scene_order_.size(); ++t) {
-    if (tally.total[t] == 0) continue;
     const std::size_t r = scene_order_[t];
     const std::size_t parent = refined_ ? refined_->input_face[r] : r;
     const double area = norm(face_normal_unnormalized(rendered, rendered.faces[r]));
-    const double v = static_cast<double>(tally.seen[t]) / static_cast<double>(tally.total[t]);
-    // A sub-face of zero area still decides a face that has nothing else.
-    const double w = area > 0 ? area : 1e-300;
-    weighted[parent] += w * v;
-    weight[parent] += w;
+    add_side(0, parent, area, tally.seen[t], tally.total[t]);
+    if (t >= one_sided_scene_faces_) {
+      add_side(1, parent, area, tally.seen_back[t - one_sided_scene_faces_], tally.total_back[t - one_sided_scene_faces_]);
+    }
+  }
+  out.face_front.assign(input_faces, 0.0f);
+  out.face_back.assign(input_faces, 0.0f);
+  for (std::size_t f = 0; f < input_faces; ++f) {
+    float side[2] = {0.0f, 0.0f};
+    for (int k = 0; k < 2; ++k) {
+      if (weight[k][f] > 0) side[k] = static_cast<float>(std::clamp(weighted[k][f] / weight[k][f], 0.0, 1.0));
+    }
+    const bool reversed = input_reversed_[f] != 0;
+    out.face_front[f] = side[reversed ? 1 : 0];
+    out.face_back[f] = side[reversed ? 0 : 1];
+    if (out.face_back[f] > out.face_front[f]) ++out.stats.seen_from_behind;
   }
   out.face.assign(input_faces, 0.0f);
   std::vector<bool> defined(input_faces, false);
   std::vector<double> vertex_weighted(input_.num_vertices(), 0.0), vertex_weight(input_.num_vertices(), 0.0);
   for (std::size_t f = 0; f < input_faces; ++f) {
-    if (weight[f] == 0 || is_degenerate(input_, input_.faces[f])) continue;
+    if ((weight[0][f] == 0 && weight[1][f] == 0) || is_degenerate(input_, input_.faces[f])) continue;
     defined[f] = true;
-    out.face[f] = static_cast<float>(std::clamp(weighted[f] / weight[f], 0.0, 1.0));
+    out.face[f] = std::max(out.face_front[f], out.face_back[f]);  // the better-seen side
     const double area = norm(face_normal_unnormalized(input_, input_.faces[f]));
     for (VertexIndex v : input_.faces[f]) {
       vertex_weighted[v] += area * out.face[f];
@@ -409,6 +488,7 @@ VisibilityOptions options_of(const TallyKey& key) {
   options.fractional = (key.flags & TallyKey::kFractional) != 0;
   options.depth_test = (key.flags & TallyKey::kDepthTest) != 0;
   options.refine = (key.flags & TallyKey::kNoRefine) == 0;
+  options.trust_winding = (key.flags & TallyKey::kTrustWinding) != 0;
   options.worst_view_cosine = key.worst_view_cosine;
   options.depth_tolerance_pixels = key.depth_tolerance_pixels;
   return options;

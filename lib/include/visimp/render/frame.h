@@ -48,13 +48,17 @@ struct RenderScene {
   std::vector<std::array<float, 3>> positions;
   std::vector<Face> faces;
   double radius = 1;             ///< bounding-sphere radius, in the units of `positions`
-  bool cull_back_faces = false;  ///< exact only for closed, outward-oriented meshes
+  /// Faces [0, culled_faces) are not drawn when they turn their back to the camera (exact
+  /// only for faces of closed, outward-wound surfaces: see core/orientation.h); the rest
+  /// are drawn from both sides.
+  std::size_t culled_faces = 0;
   /// Empty, or one cone per kClusterSize consecutive faces: lets a backend that culls back
   /// faces, and a consumer that ignores them, skip whole clusters. Worth it when faces are
   /// in a spatially coherent order (see visibility.cpp).
   std::vector<NormalCone> clusters;
 
-  /// Fills `clusters` from the given unit face normals (zero for degenerate faces).
+  /// Fills `clusters` from the given unit face normals (zero for degenerate faces). A
+  /// cluster holding a face at or past culled_faces is never skipped (cutoff -2).
   void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals);
 
   static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces);

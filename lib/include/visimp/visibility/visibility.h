@@ -5,9 +5,16 @@
 //   V(M) = Σ_t area(t) V(t) / Σ_t area(t)                                      (eq. 3.2)
 //
 // F(t, v) = 1 when camera v sees any part of t: t owns a pixel of v's ID buffer, or (the
-// paper's fix for faces smaller than a pixel) the depth at one of t's vertices is within a
-// tolerance of the depth buffer at a neighbouring pixel. With `fractional`, F is instead
-// the fraction of t's projected area that owns pixels (the paper's suggested improvement).
+// paper's fix for faces smaller than a pixel) one of t's vertices lies within a tolerance of
+// the surface shown at a neighbouring pixel (that surface's plane, extended to the vertex,
+// so a part just behind a thin shell stays hidden). With `fractional`, F is instead the
+// fraction of t's projected area that owns pixels (the paper's suggested improvement).
+//
+// Winding: N(t) is not taken from the input. Faces are wound canonically first
+// (core/orientation.h): closed surfaces outward, where eq. 4.3 applies as written; a face of
+// an open or non-manifold surface is measured from both sides, each with its own weights,
+// and V(t) is the better-seen side. Reversing any faces of the input changes nothing.
+// `trust_winding` keeps the paper's one-sided measure on the input's normals.
 //
 // Pipeline: refine long edges → render every camera (any Renderer) → tally → V per refined
 // face → V per input face (area-weighted over its sub-faces) and per vertex (area-weighted
@@ -37,8 +44,12 @@ struct VisibilityOptions {
   bool refine = true;
   /// The depth-tolerance test for faces that own no pixel (the paper's second fix).
   bool depth_test = true;
-  /// Depth tolerance in pixels, added to the slope allowance (docs/visibility.md). Range [0, 16].
-  double depth_tolerance_pixels = 0.5;
+  /// How far (pixels) a vertex may lie behind the plane of the surface shown at a pixel
+  /// next to it and still count as seen (docs/visibility.md). Range [0, 16].
+  double depth_tolerance_pixels = 0.25;
+  /// Take the input's face normals as outward: one-sided F, no reorientation (the paper's
+  /// measure as written; wrong for inward-wound or mixed input).
+  bool trust_winding = false;
   /// F = visible fraction of the projected area instead of 0/1.
   bool fractional = false;
   /// Refinement budget; more faces than this is an error, not a slow run.
@@ -56,7 +67,10 @@ struct VisibilityStats {
   double max_edge_length = 0;          ///< l, input units
   std::size_t cameras = 0;
   int resolution = 0;
-  bool back_faces_culled = false;      ///< the mesh is closed and outward-oriented
+  bool back_faces_culled = false;      ///< every face lies on a closed outward surface: all culled
+  std::size_t one_sided_faces = 0;     ///< input faces on closed surfaces: front side only, culled
+  std::size_t two_sided_faces = 0;     ///< input faces of open or non-manifold surfaces: both sides
+  std::size_t seen_from_behind = 0;    ///< input faces whose better-seen side is their back
   std::size_t degenerate_faces = 0;    ///< zero area: V is the mean of their vertices' V
   std::size_t unfaced_faces = 0;       ///< no camera in front of them: V likewise from vertices
   std::size_t hidden_faces = 0;        ///< V = 0: no camera saw any part of them
@@ -65,7 +79,10 @@ struct VisibilityStats {
 };
 
 struct Visibility {
-  std::vector<float> face;    ///< V(t) per input face, in [0, 1]
+  std::vector<float> face;    ///< V(t) per input face, in [0, 1]: the better-seen side
+  /// Per input face, V of each side: front = where the input's normal points. One of them
+  /// is 0 for a face of a closed surface (its inside is never seen).
+  std::vector<float> face_front, face_back;
   std::vector<float> vertex;  ///< per vertex, area-weighted over incident faces
   double mesh = 0;            ///< V(M)
   VisibilityStats stats;
@@ -98,10 +115,13 @@ class VisibilityJob {
  private:
   const Mesh& input_;
   VisibilityOptions options_;
+  std::vector<std::uint8_t> input_reversed_;   ///< per input face: canonical winding is the reverse
+  std::vector<std::uint8_t> input_one_sided_;  ///< per input face: on a closed outward surface
   int resolution_;
   std::optional<RefinedMesh> refined_;
   RenderScene scene_;
   std::vector<std::uint32_t> scene_order_;          ///< scene face → face of rendered_mesh()
+  std::size_t one_sided_scene_faces_ = 0;           ///< the scene's first faces, culled and one-sided
   std::vector<std::array<float, 3>> unit_normals_;  ///< per refined face, zero if degenerate
   std::uint64_t mesh_hash_ = 0;
   VisibilityStats stats_;
