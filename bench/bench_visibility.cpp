@@ -4,12 +4,18 @@
 // (child_process.h) for its own CPU time and peak memory.
 //
 // usage: bench_visibility [MESH.ply ...]   (default: dragon, bunny)
+//        bench_visibility --reference [MESH.ply ...]
+//          visimp at its defaults (258 cameras, 480²) against the Embree ray-cast reference
+//          (tests/reference: 1026 cameras, 1024², faces refined to ≤ 0.8% of the bounding-sphere
+//          diameter) and against itself at 1026 cameras and 1024² (default: the CAD parts and the
+//          bunny with the reference, the dragon without: ~10 minutes on 2 cores).
 #include <atomic>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "child_process.h"
+#include "raycast_visibility.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/render/osmesa_renderer.h"
@@ -57,11 +63,56 @@ std::vector<double> floor_pass(const Mesh& input, const visimp::CameraSet& camer
   return {bench::wall_seconds() - w0, static_cast<double>(mesh.num_faces())};
 }
 
+visimp::Visibility visimp_visibility(const Mesh& mesh, const visimp::CameraSet& cameras, int resolution) {
+  auto renderer = visimp::make_raster_renderer({resolution, 0});
+  return visimp::compute_visibility(mesh, cameras, *renderer);
+}
+
+// visimp against the ray-cast reference and against itself at the reference's sampling.
+int reference_table(std::vector<std::string> meshes) {
+  const std::string shared = VISIMP_SHARED_MESHES_DIR;
+  if (meshes.empty()) {
+    for (const char* f : {"kicad_cap_snapin_d40.ply", "kicad_esp_wroom02.ply", "kicad_dsub62_male.ply", "bunny.ply",
+                          "dragon.ply"}) {
+      meshes.push_back(shared + "/" + f);
+    }
+  }
+  const visimp::CameraSet cameras = visimp::octahedron_cameras(3), fine = visimp::octahedron_cameras(4);
+  std::printf("| mesh | V(M) visimp 258×480² | hidden | s | V(M) visimp 1026×1024² | s | V(M) ray cast 1026×1024² | "
+              "hidden | s | mean abs dV | dV(M) | ray-cast hidden area at V <= 0.02 | s visimp / ray cast |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& path : meshes) {
+    const Mesh mesh = visimp::read_mesh(path);
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    const visimp::Visibility v = visimp_visibility(mesh, cameras, 480);
+    const visimp::Visibility v_fine = visimp_visibility(mesh, fine, 1024);
+    std::printf("| %s | %.4f | %.2f%% | %.2f | %.4f | %.2f |", name.c_str(), v.mesh, 100 * v.stats.hidden_area_fraction,
+                v.stats.seconds_total, v_fine.mesh, v_fine.stats.seconds_total);
+    if (name.find("dragon") != std::string::npos) {  // ~10 minutes of rays: the self-check only
+      std::printf(" | | | | | %+.4f (vs 1026×1024²) | | |\n", v.mesh - v_fine.mesh);
+      std::fflush(stdout);
+      continue;
+    }
+    const visimp::reference::RaycastVisibility ref = visimp::reference::raycast_visibility(mesh, fine);
+    const visimp::reference::VisibilityAgreement a = visimp::reference::compare_visibility(mesh, v.face, ref);
+    std::printf(" %.4f | %.2f%% | %.1f | %.4f | %+.4f | %.2f%% | %.3f |\n", ref.mesh, 100 * ref.hidden_area_fraction,
+                ref.seconds, a.mean_abs_difference, a.mesh_difference, 100 * a.hidden_area_low,
+                v.stats.seconds_total / ref.seconds);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> meshes;
-  for (int i = 1; i < argc; ++i) meshes.push_back(argv[i]);
+  bool reference = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--reference") reference = true;
+    else meshes.push_back(argv[i]);
+  }
+  if (reference) return reference_table(meshes);
   if (meshes.empty())
     for (const char* f : {"dragon.ply", "bunny.ply"}) meshes.push_back(std::string(VISIMP_SHARED_MESHES_DIR) + "/" + f);
   const visimp::CameraSet cameras = visimp::octahedron_cameras(3);

@@ -2,6 +2,7 @@
 #include "visimp/core/orientation.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "visimp/core/bounding_box.h"
 
@@ -10,9 +11,10 @@ namespace {
 
 struct DirectedEdge {
   std::uint64_t key;     // (min << 32) | max
-  std::uint32_t face;
+  std::uint32_t corner;  // face * 3 + k: the corner where the face's run of the edge starts
   bool forward;          // the face runs the edge from min to max
-  bool operator<(const DirectedEdge& o) const { return key < o.key || (key == o.key && face < o.face); }
+  std::uint32_t face_of() const { return corner / 3; }
+  bool operator<(const DirectedEdge& o) const { return key < o.key || (key == o.key && corner < o.corner); }
 };
 
 bool has_repeated_index(const Face& f) { return f[0] == f[1] || f[1] == f[2] || f[0] == f[2]; }
@@ -35,51 +37,35 @@ OrientationPatches orientation_patches(const Mesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const VertexIndex a = face[k], b = face[(k + 1) % 3];
       const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
-      edges.push_back({(lo << 32) | hi, f, a < b});
+      edges.push_back({(lo << 32) | hi, static_cast<std::uint32_t>(3 * f + k), a < b});
     }
   }
   std::sort(edges.begin(), edges.end());
 
-  // Adjacency across manifold edges, in CSR form; `same` = both faces run the edge the same
-  // way, so one of them must be reversed to agree with the other.
-  struct Link {
-    std::uint32_t face;
-    bool same;
-  };
-  std::vector<std::uint32_t> degree(nf + 1, 0);
-  std::vector<std::uint8_t> on_open_edge(nf, 0);  // boundary or non-manifold edge
+  // Across each manifold edge, the corner of the other face that starts it, with the top
+  // bit set when both faces run the edge the same way (one must be reversed to agree).
+  // kOpen marks a corner on a boundary or non-manifold edge.
+  constexpr std::uint32_t kOpen = 0xffffffffu, kSame = 0x80000000u;
+  std::vector<std::uint32_t> across(nf * 3, kOpen);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    if (j - i == 2 && edges[i].face != edges[i + 1].face) {
-      ++degree[edges[i].face];
-      ++degree[edges[i + 1].face];
-    } else {
-      for (std::size_t k = i; k < j; ++k) on_open_edge[edges[k].face] = 1;
+    if (j - i == 2 && edges[i].face_of() != edges[i + 1].face_of()) {
+      const std::uint32_t same = edges[i].forward == edges[i + 1].forward ? kSame : 0u;
+      across[edges[i].corner] = edges[i + 1].corner | same;
+      across[edges[i + 1].corner] = edges[i].corner | same;
     }
     i = j;
   }
-  std::vector<std::uint32_t> offset(nf + 1, 0);
-  for (std::size_t f = 0; f < nf; ++f) offset[f + 1] = offset[f] + degree[f];
-  std::vector<Link> links(offset[nf]);
-  std::fill(degree.begin(), degree.end(), 0);
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    if (j - i == 2 && edges[i].face != edges[i + 1].face) {
-      const bool same = edges[i].forward == edges[i + 1].forward;
-      const std::uint32_t a = edges[i].face, b = edges[i + 1].face;
-      links[offset[a] + degree[a]++] = {b, same};
-      links[offset[b] + degree[b]++] = {a, same};
-    }
-    i = j;
-  }
+  std::vector<DirectedEdge>().swap(edges);  // free before the walk
 
   OrientationPatches out;
   constexpr std::uint32_t kNone = 0xffffffffu;
   out.patch_of_face.assign(nf, kNone);
   out.reversed.assign(nf, 0);
-  const Vec3 center = bounding_box(mesh).center();
+  const BoundingBox box = bounding_box(mesh);
+  const Vec3 center = box.center();
+  const double diagonal = box.diagonal();
   std::vector<std::uint32_t> queue;
   std::vector<std::uint32_t> members;
   for (std::uint32_t seed = 0; seed < nf; ++seed) {
@@ -92,27 +78,35 @@ OrientationPatches orientation_patches(const Mesh& mesh) {
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const std::uint32_t f = queue[head];
       members.push_back(f);
-      closed = closed && !on_open_edge[f];
-      for (std::uint32_t l = offset[f]; l < offset[f + 1]; ++l) {
-        const Link& link = links[l];
-        const std::uint8_t want = out.reversed[f] ^ static_cast<std::uint8_t>(link.same);
-        if (out.patch_of_face[link.face] == kNone) {
-          out.patch_of_face[link.face] = patch;
-          out.reversed[link.face] = want;
-          queue.push_back(link.face);
-        } else if (out.reversed[link.face] != want) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t link = across[3 * f + k];
+        if (link == kOpen) {
+          closed = false;
+          continue;
+        }
+        const std::uint32_t g = (link & ~kSame) / 3;
+        const auto want = static_cast<std::uint8_t>(out.reversed[f] ^ ((link & kSame) != 0 ? 1 : 0));
+        if (out.patch_of_face[g] == kNone) {
+          out.patch_of_face[g] = patch;
+          out.reversed[g] = want;
+          queue.push_back(g);
+        } else if (out.reversed[g] != want) {
           closed = false;  // not orientable: some edge stays misoriented whatever we do
         }
       }
     }
     // Signed volume about the box centre (6× the tetrahedra's): positive when wound outward.
-    double volume = 0;
+    double volume = 0, area = 0;
     for (std::uint32_t f : members) {
       const Face c = canonical_face(mesh.faces[f], out.reversed[f] != 0);
       const Vec3 a = mesh.positions[c[0]] - center, b = mesh.positions[c[1]] - center,
                  d = mesh.positions[c[2]] - center;
       volume += dot(a, cross(b, d));
+      area += norm(cross(b - a, d - a));
     }
+    // A closed surface that encloses nothing (a sheet glued to a reversed copy of itself)
+    // has no outside to speak of: drawn from both sides like an open one.
+    if (!(std::abs(volume) > 1e-9 * area * diagonal)) closed = false;
     if (volume < 0) {
       for (std::uint32_t f : members) out.reversed[f] ^= 1;
       volume = -volume;

@@ -31,7 +31,23 @@ double refinement_edge_length(double bounding_radius, int resolution, double wor
   return pixel / worst_view_cosine;
 }
 
+bool has_edge_longer_than(const Mesh& mesh, double max_edge) {
+  const double limit2 = max_edge * max_edge;
+  for (const Face& f : mesh.faces) {
+    for (int i = 0; i < 3; ++i) {
+      if (squared_norm(mesh.positions[f[i]] - mesh.positions[f[(i + 1) % 3]]) > limit2) return true;
+    }
+  }
+  return false;
+}
+
 std::optional<RefinedMesh> refine_long_edges(const Mesh& mesh, double max_edge, std::size_t max_faces) {
+  if (!(max_edge > 0)) throw UsageError("refinement edge length must be positive");
+  if (!has_edge_longer_than(mesh, max_edge)) return std::nullopt;  // nothing copied
+  return refine_long_edges(Mesh{mesh.positions, mesh.faces, {}, {}}, max_edge, max_faces);
+}
+
+std::optional<RefinedMesh> refine_long_edges(Mesh&& mesh, double max_edge, std::size_t max_faces) {
   if (!(max_edge > 0)) throw UsageError("refinement edge length must be positive");
   const double limit2 = max_edge * max_edge;
   auto is_long = [&](const std::vector<Vec3>& p, VertexIndex a, VertexIndex b) {
@@ -50,9 +66,9 @@ std::optional<RefinedMesh> refine_long_edges(const Mesh& mesh, double max_edge, 
     if (long_edges.empty()) return refined;
     if (!refined) {
       refined.emplace();
-      refined->mesh.positions = mesh.positions;
-      refined->mesh.faces = mesh.faces;
-      refined->input_face.resize(mesh.faces.size());
+      refined->mesh.positions = std::move(mesh.positions);
+      refined->mesh.faces = std::move(mesh.faces);
+      refined->input_face.resize(refined->mesh.faces.size());
       std::iota(refined->input_face.begin(), refined->input_face.end(), 0u);
     }
     Mesh& m = refined->mesh;

@@ -90,33 +90,32 @@ class TallyConsumer final : public FrameConsumer {
     if (options_.depth_test) mark_seen_vertices(frame, w.vertex_seen);
     const std::uint8_t* vertex_seen = w.vertex_seen.data();
 
+    // F per face: it owns a pixel, or one of its vertices passed the depth test (vertex_seen
+    // stays all zero with the test off). Local pointers: the compiler cannot prove the
+    // tallies do not alias the inputs, and would reload them every face.
+    const Face* face = scene_.faces.data();
+    const std::array<float, 3>* normal = face_normals_.data();
+    const std::uint32_t* owned_in_frame = w.seen_in_frame.data();
+    FaceTally* front = w.tally.data();
+    FaceTally* back = w.back.data();  // scene faces from one_sided_ on
+    const bool fractional = options_.fractional;
     for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
       // No face of such a cluster has weight for this camera (never set for two-sided faces).
       if (scene_.clusters[first / RenderScene::kClusterSize].all_back_facing(direction)) continue;
       const std::size_t last = std::min(faces, first + RenderScene::kClusterSize);
       for (std::size_t t = first; t < last; ++t) {
-        const float cosine = dot(face_normals_[t], direction);
-        bool visible = false;
-        if (options_.fractional) {
-          visible = w.owned[t] != 0;
-        } else {
-          visible = w.seen_in_frame[t] == frame_number;
-        }
-        if (options_.depth_test) {
-          const Face& f = scene_.faces[t];
-          visible |= (vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0;
-        }
-        // Binary F without data-dependent branches: a side with q = 0 adds nothing anyway.
+        const Face& f = face[t];
+        const float cosine = dot(normal[t], direction);
+        const bool visible = (fractional ? w.owned[t] != 0 : owned_in_frame[t] == frame_number) |
+                             ((vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0);
+        // Without data-dependent branches: a side with q = 0 adds nothing anyway.
         const std::uint32_t q = quantize_weight(cosine);
-        const std::uint32_t fraction_q = options_.fractional ? fractional_weight(t, q, frame, w) : q;
-        w.tally[t].total += q;
-        w.tally[t].seen += visible ? fraction_q : 0u;
+        front[t].total += q;
+        front[t].seen += visible ? (fractional ? fractional_weight(t, q, frame, w) : q) : 0u;
         if (t >= one_sided_) {
           const std::uint32_t qb = quantize_weight(-cosine);
-          const std::uint32_t fraction_qb = options_.fractional ? fractional_weight(t, qb, frame, w) : qb;
-          FaceTally& back = w.back[t - one_sided_];
-          back.total += qb;
-          back.seen += visible ? fraction_qb : 0u;
+          back[t - one_sided_].total += qb;
+          back[t - one_sided_].seen += visible ? (fractional ? fractional_weight(t, qb, frame, w) : qb) : 0u;
         }
       }
     }
@@ -169,6 +168,8 @@ class TallyConsumer final : public FrameConsumer {
     const float* depth = frame.depth.data();
     const std::uint32_t* ids = frame.ids.data();
     const float tolerance = static_cast<float>(options_.depth_tolerance_pixels) / static_cast<float>(size);
+    const double c = options_.worst_view_cosine;
+    const float reach = static_cast<float>(0.7072 * std::sqrt(1.0 - c * c) / c) / static_cast<float>(size);
     for (std::size_t i = 0; i < frame.vertices.size(); ++i) {
       const ScreenVertex& v = frame.vertices[i];
       // Screen coordinates are positive, so truncation is the floor (or 0 where clamped anyway).
@@ -180,6 +181,12 @@ class TallyConsumer final : public FrameConsumer {
       const float z = v.depth - tolerance;
       if (z <= std::min({d[0], d[1], d[2], d[3]})) {
         seen[i] = 1;  // in front of every sample (the background has depth 1)
+        continue;
+      }
+      // Far behind every sample: not even a corner of a face drawn next to it (such a face,
+      // up to the worst viewing angle, changes depth by at most `reach` over 0.71 px).
+      if (z > std::max({d[0], d[1], d[2], d[3]}) + reach) {
+        seen[i] = 0;
         continue;
       }
       const float fx = std::clamp(v.x - 0.5f - static_cast<float>(px), 0.0f, 1.0f);
@@ -267,35 +274,37 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   for (const Face& f : mesh.faces) stats_.degenerate_faces += is_degenerate(mesh, f) ? 1 : 0;
 
   // Canonical winding (core/orientation.h): the faces rendered do not depend on the input's.
-  std::vector<Face> canonical(input_faces);
   input_reversed_.assign(input_faces, 0);
   input_one_sided_.assign(input_faces, 0);
   if (options.trust_winding) {
-    canonical = mesh.faces;
     std::fill(input_one_sided_.begin(), input_one_sided_.end(), back_faces_always_hidden(mesh) ? 1 : 0);
   } else {
     const OrientationPatches patches = orientation_patches(mesh);
     for (std::size_t f = 0; f < input_faces; ++f) {
       input_reversed_[f] = patches.reversed[f];
       input_one_sided_[f] = patches.closed[patches.patch_of_face[f]] && !is_degenerate(mesh, mesh.faces[f]) ? 1 : 0;
-      canonical[f] = canonical_face(mesh.faces[f], patches.reversed[f] != 0);
     }
   }
+  auto wound_face = [&](std::size_t f) {
+    return options.trust_winding ? mesh.faces[f] : canonical_face(mesh.faces[f], input_reversed_[f] != 0);
+  };
   for (std::size_t f = 0; f < input_faces; ++f) stats_.one_sided_faces += input_one_sided_[f];
   stats_.two_sided_faces = input_faces - stats_.one_sided_faces;
 
   const BoundingBox box = bounding_box(mesh);
   const double radius = view_radius(box);
   stats_.max_edge_length = refinement_edge_length(radius, resolution, options.worst_view_cosine);
-  if (options.refine) {
-    Mesh wound{mesh.positions, canonical, {}, {}};
-    refined_ = refine_long_edges(wound, stats_.max_edge_length, options.max_refined_faces);
+  if (options.refine && has_edge_longer_than(mesh, stats_.max_edge_length)) {
+    Mesh wound{mesh.positions, std::vector<Face>(input_faces), {}, {}};
+    for (std::size_t f = 0; f < input_faces; ++f) wound.faces[f] = wound_face(f);
+    refined_ = refine_long_edges(std::move(wound), stats_.max_edge_length, options.max_refined_faces);
   }
   stats_.refinement_rounds = refined_ ? refined_->rounds : 0;
   const std::vector<Vec3>& positions = refined_ ? refined_->mesh.positions : mesh.positions;
-  const std::vector<Face>& faces = refined_ ? refined_->mesh.faces : canonical;
+  auto rendered_face = [&](std::size_t r) { return refined_ ? refined_->mesh.faces[r] : wound_face(r); };
   auto parent_of = [&](std::size_t r) { return refined_ ? refined_->input_face[r] : r; };
-  stats_.refined_faces = faces.size();
+  const std::size_t faces_rendered = refined_ ? refined_->mesh.num_faces() : input_faces;
+  stats_.refined_faces = faces_rendered;
   // The scene holds the faces in spatial order, one-sided ones first (they may be culled),
   // and the vertices in order of first use.
   scene_order_ = spatial_face_order(rendered_mesh());
@@ -303,13 +312,13 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
                         [&](std::uint32_t r) { return input_one_sided_[parent_of(r)] != 0; });
   const Vec3 center = bounding_box(rendered_mesh()).center();
   scene_.radius = radius;
-  scene_.faces.resize(faces.size());
-  unit_normals_.resize(faces.size());
+  scene_.faces.resize(faces_rendered);
+  unit_normals_.resize(faces_rendered);
   one_sided_scene_faces_ = 0;
   constexpr VertexIndex kUnused = 0xffffffffu;
   std::vector<VertexIndex> scene_vertex(positions.size(), kUnused);
   for (std::size_t t = 0; t < scene_order_.size(); ++t) {
-    const Face& f = faces[scene_order_[t]];
+    const Face f = rendered_face(scene_order_[t]);
     one_sided_scene_faces_ += input_one_sided_[parent_of(scene_order_[t])];
     const Vec3 n = cross(positions[f[1]] - positions[f[0]], positions[f[2]] - positions[f[0]]);
     const bool degenerate = f[0] == f[1] || f[1] == f[2] || f[0] == f[2] ||
@@ -325,10 +334,10 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
     }
   }
   scene_.culled_faces = one_sided_scene_faces_;
-  stats_.back_faces_culled = scene_.culled_faces == faces.size() && !faces.empty();
+  stats_.back_faces_culled = scene_.culled_faces == faces_rendered && faces_rendered > 0;
   // Trusting the winding, every face is tallied from its front only (culled or not).
   if (options.trust_winding) {
-    one_sided_scene_faces_ = faces.size();
+    one_sided_scene_faces_ = faces_rendered;
     stats_.one_sided_faces = input_faces;
     stats_.two_sided_faces = 0;
   }
@@ -406,14 +415,17 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
 
   // Each side of an input face: V = area-weighted mean over its sub-faces that some camera
   // faced from that side. Side 0 is the canonical front (outward on closed surfaces).
-  std::vector<double> weighted[2] = {std::vector<double>(input_faces, 0.0), std::vector<double>(input_faces, 0.0)};
-  std::vector<double> weight[2] = {std::vector<double>(input_faces, 0.0), std::vector<double>(input_faces, 0.0)};
+  // (No back-side sums at all when every face is on a closed surface: the dragon's case.)
+  const std::size_t back_sums = one_sided_scene_faces_ < scene_order_.size() ? input_faces : 0;
+  // Float sums: a face has few sub-faces, and the dragon's finish would otherwise be its peak.
+  std::vector<float> weighted[2] = {std::vector<float>(input_faces, 0.0f), std::vector<float>(back_sums, 0.0f)};
+  std::vector<float> weight[2] = {std::vector<float>(input_faces, 0.0f), std::vector<float>(back_sums, 0.0f)};
   auto add_side = [&](int side, std::size_t parent, double area, std::uint32_t seen, std::uint32_t total) {
     if (total == 0) return;
     // A sub-face of zero area still decides a face that has nothing else.
-    const double w = area > 0 ? area : 1e-300;
-    weighted[side][parent] += w * static_cast<double>(seen) / static_cast<double>(total);
-    weight[side][parent] += w;
+    const double w = area > 0 ? area : 1e-30;
+    weighted[side][parent] += static_cast<float>(w * static_cast<double>(seen) / static_cast<double>(total));
+    weight[side][parent] += static_cast<float>(w);
   };
   for (std::size_t t = 0; t < scene_order_.size(); ++t) {
     const std::size_t r = scene_order_[t];
@@ -428,8 +440,8 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   out.face_back.assign(input_faces, 0.0f);
   for (std::size_t f = 0; f < input_faces; ++f) {
     float side[2] = {0.0f, 0.0f};
-    for (int k = 0; k < 2; ++k) {
-      if (weight[k][f] > 0) side[k] = static_cast<float>(std::clamp(weighted[k][f] / weight[k][f], 0.0, 1.0));
+    for (int k = 0; k < (back_sums > 0 ? 2 : 1); ++k) {
+      if (weight[k][f] > 0) side[k] = std::clamp(weighted[k][f] / weight[k][f], 0.0f, 1.0f);
     }
     const bool reversed = input_reversed_[f] != 0;
     out.face_front[f] = side[reversed ? 1 : 0];
@@ -440,7 +452,8 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   std::vector<bool> defined(input_faces, false);
   std::vector<double> vertex_weighted(input_.num_vertices(), 0.0), vertex_weight(input_.num_vertices(), 0.0);
   for (std::size_t f = 0; f < input_faces; ++f) {
-    if ((weight[0][f] == 0 && weight[1][f] == 0) || is_degenerate(input_, input_.faces[f])) continue;
+    const bool faced = weight[0][f] > 0 || (back_sums > 0 && weight[1][f] > 0);
+    if (!faced || is_degenerate(input_, input_.faces[f])) continue;
     defined[f] = true;
     out.face[f] = std::max(out.face_front[f], out.face_back[f]);  // the better-seen side
     const double area = norm(face_normal_unnormalized(input_, input_.faces[f]));

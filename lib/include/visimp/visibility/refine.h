@@ -28,9 +28,14 @@ struct RefinedMesh {
 /// about one pixel there. See docs/visibility.md.
 double refinement_edge_length(double bounding_radius, int resolution, double worst_view_cosine);
 
+/// True when some edge is longer than max_edge (refine_long_edges would split it).
+bool has_edge_longer_than(const Mesh& mesh, double max_edge);
+
 /// Splits until no edge is longer than max_edge. Returns nothing when no edge is longer
 /// (the common case for scans: the step is skipped, nothing is copied). Throws UsageError
 /// when the result would exceed max_faces faces.
 std::optional<RefinedMesh> refine_long_edges(const Mesh& mesh, double max_edge, std::size_t max_faces);
+/// The same, taking the mesh's positions and faces over instead of copying them.
+std::optional<RefinedMesh> refine_long_edges(Mesh&& mesh, double max_edge, std::size_t max_faces);
 
 }  // namespace visimp
