@@ -14,6 +14,7 @@
 #include "visimp/io/atomic_file.h"
 #include "visimp/report/json.h"
 #include "visimp/report/svg_plot.h"
+#include "visimp/visibility/orient.h"
 #include "visimp/visibility/visibility.h"
 
 namespace visimp::app {
@@ -50,6 +51,9 @@ void write_stats(JsonWriter& json, const VisibilityStats& s) {
       .field("cameras", s.cameras)
       .field("resolution", static_cast<std::int64_t>(s.resolution))
       .field("back_faces_culled", s.back_faces_culled)
+      .field("one_sided_faces", s.one_sided_faces)
+      .field("two_sided_faces", s.two_sided_faces)
+      .field("seen_from_behind_faces", s.seen_from_behind)
       .field("degenerate_faces", s.degenerate_faces)
       .field("unfaced_faces", s.unfaced_faces)
       .field("hidden_faces", s.hidden_faces)
@@ -132,6 +136,7 @@ int run_visibility(const Args& args) {
     if (!tally_path.empty()) json.field("tally", tally_path);
     json.field("backend", renderer->name()).field("camera_set", cameras.name);
     json.field("camera_first", first).field("camera_last", last).field("fractional", options.fractional);
+    json.field("trust_winding", options.trust_winding);
     write_stats(json, s);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
     json.key("seconds").begin_object()
@@ -150,6 +155,58 @@ int run_visibility(const Args& args) {
     report << s.input_faces << " faces (" << s.refined_faces << " after refinement), cameras " << first << ".."
            << last << " of " << cameras.size() << ", refine " << s.seconds_refine << " s, render " << render_seconds
            << " s\n";
+  }
+  return 0;
+}
+
+int run_orient(const Args& args) {
+  VisibilityOptions options;
+  SamplingOptions sampling;
+  StreamOptions stream;
+  OrientOptions orient;
+  ArgParser parser("visimp orient IN OUT [--cameras SET] [--resolution R] [--both-sides T] [--json]",
+                   "Writes IN with every face wound so that its front is the side the cameras see\n"
+                   "(visibility from both sides of every face). Faces seen from both sides are left as\n"
+                   "they are; faces no camera sees follow their surface (outward when it is closed).",
+                   2, 2);
+  parser.add(describe_options(sampling));
+  parser.add(describe_options(options));
+  parser.add(option_spec("--both-sides", "T", orient.both_sides_threshold,
+                         "a face whose two sides both have V > T is left as it is, [0, 1)"));
+  parser.add(describe_options(stream, true));
+  if (!parser.parse(args)) return 0;
+  check_options(options);
+  if (options.trust_winding) throw UsageError("--trust-winding measures one side only: orient needs both");
+  const std::string& in = parser.positionals()[0];
+  const std::string& out = parser.positionals()[1];
+  const CameraSet cameras = camera_set_from_spec(sampling.cameras);
+  const auto renderer = make_renderer(sampling.backend, render_options(sampling));
+  const auto start = std::chrono::steady_clock::now();
+  const Mesh mesh = read_input(in, stream);
+  Visibility visibility;
+  {
+    ProgressBar progress("visibility");
+    visibility = compute_visibility(mesh, cameras, *renderer, options, &progress);
+  }
+  const OrientResult result = orient_by_visibility(mesh, visibility, orient);
+  write_output(result.mesh, out, in, stream);
+  std::ostream& report = out == "-" ? std::cerr : std::cout;
+  if (stream.json) {
+    JsonWriter json(report);
+    json.begin_object().field("command", "orient").field("input", in).field("output", out);
+    json.field("faces", mesh.num_faces())
+        .field("reversed_faces", result.reversed)
+        .field("seen_from_both_sides_faces", result.seen_from_both_sides)
+        .field("never_seen_faces", result.never_seen)
+        .field("mesh_visibility", visibility.mesh)
+        .field("cameras", cameras.size())
+        .field("resolution", static_cast<std::int64_t>(renderer->resolution()))
+        .field("seconds", seconds_since(start));
+    json.end_object();
+  } else {
+    report << in << ": " << result.reversed << " of " << mesh.num_faces() << " faces reversed, "
+           << result.seen_from_both_sides << " seen from both sides left as they were, " << result.never_seen
+           << " never seen (wound like their surface)\n";
   }
   return 0;
 }

@@ -14,6 +14,7 @@ int run_info(const Args& args);
 int run_convert(const Args& args);
 int run_visibility(const Args& args);
 int run_visibility_merge(const Args& args);
+int run_orient(const Args& args);
 int run_visibility_study(const Args& args);
 int run_metro(const Args& args);
 int run_imgerr(const Args& args);

@@ -19,6 +19,7 @@ constexpr const char* kUsage =
     "  convert IN OUT             change mesh format (ply, obj, off, stl)\n"
     "  visibility IN OUT.ply      per-face visibility V(t) from a sphere of cameras (Zhang & Turk)\n"
     "  visibility-merge PART...   add tallies of camera slices computed separately\n"
+    "  orient IN OUT              wind every face outward, as the cameras see it\n"
     "  visibility-study IN        visibility error vs cameras and seconds (the paper's Fig. 3)\n"
     "  metro A B                  sampled surface distances both ways: Hausdorff, mean, RMS, histogram\n"
     "  imgerr A B                 image RMS error over 20 flat-shaded views (Zhang & Turk eq. 5.11)\n"
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
     if (command == "convert") return app::run_convert(args);
     if (command == "visibility") return app::run_visibility(args);
     if (command == "visibility-merge") return app::run_visibility_merge(args);
+    if (command == "orient") return app::run_orient(args);
     if (command == "visibility-study") return app::run_visibility_study(args);
     if (command == "metro") return app::run_metro(args);
     if (command == "imgerr") return app::run_imgerr(args);

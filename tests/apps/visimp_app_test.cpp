@@ -31,7 +31,7 @@ class App : public ::testing::Test {
 
 TEST_F(App, HelpEverywhereExitsZero) {
   for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help", "visibility --help",
-                          "visibility-merge --help", "visibility-study --help", "metro --help", "imgerr --help",
+                          "visibility-merge --help", "visibility-study --help", "orient --help", "metro --help", "imgerr --help",
                           "compare --help", "patches --help", "patches build --help", "patches query --help",
                           "patches study --help"}) {
     const AppRun r = run(cmd, dir);
@@ -168,6 +168,27 @@ TEST_F(App, VisibilityRejectsBadCamerasAndOutputs) {
   r = run("visibility " + bunny + " " + dir + "/v.ply --camera-range 5:3", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir + "/v.ply"));
+}
+
+TEST_F(App, OrientRewindsAnInwardScanAndInfoSaysSo) {
+  // The bunny wound inward, as it is commonly distributed.
+  Mesh inward = read_mesh(bunny);
+  for (Face& f : inward.faces) std::swap(f[1], f[2]);
+  write_mesh(inward, dir + "/inward.ply");
+  const AppRun before = run("info " + dir + "/inward.ply --json", dir);
+  ASSERT_EQ(before.code, 0) << before.err;
+  EXPECT_NE(before.out.find("\"seen_from_behind_faces\": 3674"), std::string::npos) << before.out;
+  const AppRun r = run("orient " + dir + "/inward.ply " + dir + "/outward.ply --cameras 66 --resolution 200 --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"reversed_faces\": 3674"), std::string::npos) << r.out;
+  const AppRun after = run("info " + dir + "/outward.ply --json", dir);
+  EXPECT_NE(after.out.find("\"seen_from_behind_faces\": 0"), std::string::npos) << after.out;
+  EXPECT_NE(run("info " + dir + "/outward.ply", dir).out.find("seen from behind      0 faces"), std::string::npos);
+  // The V written by `visibility` does not care either.
+  const AppRun v = run("visibility " + dir + "/inward.ply " + dir + "/v.ply --cameras 66 --resolution 200 --json", dir);
+  EXPECT_NE(v.out.find("\"seen_from_behind_faces\": 3674"), std::string::npos) << v.out;
+  EXPECT_EQ(run("orient " + dir + "/inward.ply " + dir + "/inward.ply", dir).code, 2);  // never over the input
+  EXPECT_EQ(run("orient " + dir + "/missing.ply " + dir + "/o.ply", dir).code, 1);
 }
 
 TEST_F(App, VisibilityStudyReportsErrorAgainstTime) {
