@@ -14,6 +14,7 @@
 // total_back[faces − one_sided_faces] (all uint32).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -70,8 +71,9 @@ struct VisibilityTally {
 };
 
 /// Quantised camera weight q(w) (see above).
+/// (max, not a comparison: the tally loop has no branch on the sign of R·N.)
 inline std::uint32_t quantize_weight(float w) {
-  return w > 0 ? static_cast<std::uint32_t>(w * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f) : 0u;
+  return static_cast<std::uint32_t>(std::max(w, 0.0f) * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f);
 }
 
 }  // namespace visimp
