@@ -7,6 +7,7 @@
 
 #include "test_meshes.h"
 #include "visimp/io/mesh_io.h"
+#include "visimp/visibility/visibility.h"
 
 namespace visimp {
 namespace {
@@ -50,6 +51,25 @@ TEST(Osmesa, AgreesWithTheRasterizerOnRealMeshes) {
     // Stricter: of the pairs either backend calls visible, nearly all are called so by both.
     EXPECT_GE(static_cast<double>(both) / static_cast<double>(either), 0.995) << file;
   }
+}
+
+TEST(Osmesa, CullsOnlyTheClosedSurfacesAsTheRasterizerDoes) {
+  // The bunny (closed: culled) beside an open sheet (drawn from both sides): the scene's
+  // first faces are culled, the rest not, in both backends.
+  Mesh scene = read_mesh(test::bundled_mesh("bunny.ply"));
+  const Mesh sheet = test::grid(6);
+  const auto offset = static_cast<VertexIndex>(scene.num_vertices());
+  for (const Vec3& p : sheet.positions) scene.positions.push_back(p * 0.05 + Vec3{0.4, -0.2, 0});
+  for (const Face& f : sheet.faces) scene.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  const CameraSet cameras = octahedron_cameras(2);
+  const auto raster = make_raster_renderer({200, 2});
+  const auto gl = make_osmesa_renderer({200, 2});
+  const Visibility a = compute_visibility(scene, cameras, *raster), b = compute_visibility(scene, cameras, *gl);
+  EXPECT_EQ(a.stats.two_sided_faces, sheet.num_faces());
+  EXPECT_NEAR(a.mesh, b.mesh, 0.005);
+  double differ = 0;
+  for (std::size_t f = 0; f < scene.num_faces(); ++f) differ += std::abs(a.face[f] - b.face[f]);
+  EXPECT_LT(differ / static_cast<double>(scene.num_faces()), 0.01);
 }
 
 }  // namespace
