@@ -6,8 +6,9 @@
 //
 // F(t, v) = 1 when camera v sees any part of t: t owns a pixel of v's ID buffer, or (the
 // paper's fix for faces smaller than a pixel) one of t's vertices lies within a tolerance of
-// the surface shown at a neighbouring pixel (that surface's plane, extended to the vertex,
-// so a part just behind a thin shell stays hidden). With `fractional`, F is instead the
+// the surface shown around it (the bilinear interpolation of the four depths at the vertex,
+// so a part just behind a thin shell stays hidden), on a silhouette, or at a corner of a
+// face shown next to it (docs/visibility.md "The depth test"). With `fractional`, F is the
 // fraction of t's projected area that owns pixels (the paper's suggested improvement).
 //
 // Winding: N(t) is not taken from the input. Faces are wound canonically first
@@ -44,8 +45,8 @@ struct VisibilityOptions {
   bool refine = true;
   /// The depth-tolerance test for faces that own no pixel (the paper's second fix).
   bool depth_test = true;
-  /// How far (pixels) a vertex may lie behind the plane of the surface shown at a pixel
-  /// next to it and still count as seen (docs/visibility.md). Range [0, 16].
+  /// How far (pixels) a vertex may lie behind the surface shown around it (the bilinear
+  /// interpolation of the four depths) and still count as seen (docs/visibility.md). Range [0, 16].
   double depth_tolerance_pixels = 0.25;
   /// Take the input's face normals as outward: one-sided F, no reorientation (the paper's
   /// measure as written; wrong for inward-wound or mixed input).
@@ -121,7 +122,7 @@ class VisibilityJob {
   std::optional<RefinedMesh> refined_;
   RenderScene scene_;
   std::vector<std::uint32_t> scene_order_;          ///< scene face → face of rendered_mesh()
-  std::size_t one_sided_scene_faces_ = 0;           ///< the scene's first faces, culled and one-sided
+  std::size_t one_sided_scene_faces_ = 0;           ///< the scene's first faces: front side only (and culled, unless trust_winding)
   std::vector<std::array<float, 3>> unit_normals_;  ///< per refined face, zero if degenerate
   std::uint64_t mesh_hash_ = 0;
   VisibilityStats stats_;
