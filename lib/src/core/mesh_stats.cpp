@@ -8,9 +8,11 @@
 
 namespace visimp {
 
-bool is_degenerate(const Mesh& mesh, const Face& f) {
+bool is_degenerate(const Mesh& mesh, const Face& f) { return is_degenerate(mesh.positions, f); }
+
+bool is_degenerate(const std::vector<Vec3>& positions, const Face& f) {
   if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return true;
-  return is_degenerate_triangle(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]]);
+  return is_degenerate_triangle(positions[f[0]], positions[f[1]], positions[f[2]]);
 }
 
 bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {

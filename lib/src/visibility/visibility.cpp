@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/content_hash.h"
@@ -352,8 +351,7 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
     const Face f = rendered_face(scene_order_[t]);
     one_sided_scene_faces_ += input_one_sided_[parent_of(scene_order_[t])];
     const Vec3 n = cross(positions[f[1]] - positions[f[0]], positions[f[2]] - positions[f[0]]);
-    const bool degenerate = f[0] == f[1] || f[1] == f[2] || f[0] == f[2] ||
-                            is_degenerate_triangle(positions[f[0]], positions[f[1]], positions[f[2]]);
+    const bool degenerate = is_degenerate(positions, f);
     unit_normals_[t] = degenerate ? std::array<float, 3>{0, 0, 0} : to_float(n / norm(n));
     for (int k = 0; k < 3; ++k) {
       VertexIndex& v = scene_vertex[f[k]];

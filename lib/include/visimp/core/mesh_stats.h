@@ -36,6 +36,8 @@ MeshStats analyze(const Mesh& mesh);
 /// True when the face has a repeated vertex index or (numerically) zero area relative to
 /// its longest edge: such a face has no normal and contributes no plane anywhere in visimp.
 bool is_degenerate(const Mesh& mesh, const Face& f);
+/// The same for a face over a bare position array (a refined or re-wound copy).
+bool is_degenerate(const std::vector<Vec3>& positions, const Face& f);
 /// The same test on three corner positions.
 bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
 
