@@ -2,6 +2,7 @@
 #include "visimp/render/frame.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
@@ -30,6 +31,50 @@ RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces, const
   return scene;
 }
 
+namespace {
+
+// Per vertex: the cone of the normals of its faces (see VertexCone).
+std::vector<VertexCone> vertex_normal_cones(const RenderScene& scene, const std::vector<std::array<float, 3>>& unit_normals) {
+  const std::vector<Face>& faces = scene.faces;
+  const std::size_t culled_faces = scene.culled_faces;
+  const std::size_t vertices = scene.positions.size();
+  std::vector<Vec3> axis(vertices);
+  std::vector<std::uint8_t> never(vertices, 0);  // has a face drawn from both sides
+  for (std::size_t t = 0; t < faces.size(); ++t) {
+    for (const VertexIndex v : faces[t]) {
+      axis[v] += Vec3(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+      if (t >= culled_faces) never[v] = 1;
+    }
+  }
+  for (Vec3& a : axis) {
+    const double length = norm(a);
+    if (length > 0) a = a / length;
+  }
+  std::vector<double> min_cos(vertices, 2.0);  // 2: no face with a normal (never facing)
+  for (std::size_t t = 0; t < faces.size(); ++t) {
+    const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+    if (squared_norm(n) == 0) continue;
+    for (const VertexIndex v : faces[t]) min_cos[v] = std::min(min_cos[v], dot(axis[v], n));
+  }
+  std::vector<VertexCone> vertex_cones(vertices);
+  auto pack = [](double x) { return static_cast<std::int8_t>(std::lround(std::clamp(x, -1.0, 1.0) * 127)); };
+  for (std::size_t v = 0; v < vertices; ++v) {
+    if (never[v] != 0) continue;
+    if (min_cos[v] > 1.5) {  // only degenerate faces: always turned away
+      vertex_cones[v].packed = {0, 0, 0, 1};
+      continue;
+    }
+    if (min_cos[v] <= 0.01) continue;  // a cone of ~90° or more
+    // Margins as for clusters, plus the axis's rounding to 1/127: < 0.014 on the dot product.
+    const double cutoff = -std::sqrt(1 - min_cos[v] * min_cos[v]) - 0.01 - 0.014;
+    vertex_cones[v].packed = {pack(axis[v].x), pack(axis[v].y), pack(axis[v].z),
+                              static_cast<std::int8_t>(std::max(-128.0, std::floor(cutoff * 127)))};
+  }
+  return vertex_cones;
+}
+
+}  // namespace
+
 void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals) {
   clusters.assign((faces.size() + kClusterSize - 1) / kClusterSize, NormalCone{});
   for (std::size_t c = 0; c < clusters.size(); ++c) {
@@ -51,6 +96,7 @@ void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& 
     // Margin: float normals, and screen-space culling of faces seen almost edge-on.
     cone.cutoff = static_cast<float>(-std::sqrt(1 - min_cos * min_cos) - 0.01);
   }
+  vertex_cones = vertex_normal_cones(*this, unit_normals);
 }
 
 OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int resolution) {
@@ -66,26 +112,26 @@ OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int reso
   return view;
 }
 
-void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out) {
+Projection::Projection(const OrthoView& view) {
   const double half = 0.5 * view.resolution;
   const double pixels_per_unit = half / view.radius;
-  const float rx = static_cast<float>(view.right.x * pixels_per_unit);
-  const float ry = static_cast<float>(view.right.y * pixels_per_unit);
-  const float rz = static_cast<float>(view.right.z * pixels_per_unit);
-  const float ux = static_cast<float>(view.up.x * pixels_per_unit);
-  const float uy = static_cast<float>(view.up.y * pixels_per_unit);
-  const float uz = static_cast<float>(view.up.z * pixels_per_unit);
+  rx_ = static_cast<float>(view.right.x * pixels_per_unit);
+  ry_ = static_cast<float>(view.right.y * pixels_per_unit);
+  rz_ = static_cast<float>(view.right.z * pixels_per_unit);
+  ux_ = static_cast<float>(view.up.x * pixels_per_unit);
+  uy_ = static_cast<float>(view.up.y * pixels_per_unit);
+  uz_ = static_cast<float>(view.up.z * pixels_per_unit);
   const double depth_per_unit = -0.5 / view.radius;
-  const float dx = static_cast<float>(view.direction.x * depth_per_unit);
-  const float dy = static_cast<float>(view.direction.y * depth_per_unit);
-  const float dz = static_cast<float>(view.direction.z * depth_per_unit);
-  const float offset = static_cast<float>(half);
+  dx_ = static_cast<float>(view.direction.x * depth_per_unit);
+  dy_ = static_cast<float>(view.direction.y * depth_per_unit);
+  dz_ = static_cast<float>(view.direction.z * depth_per_unit);
+  offset_ = static_cast<float>(half);
+}
+
+void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out) {
+  const Projection project(view);
   out.resize(scene.positions.size());
-  for (std::size_t i = 0; i < scene.positions.size(); ++i) {
-    const auto& p = scene.positions[i];
-    out[i] = {rx * p[0] + ry * p[1] + rz * p[2] + offset, ux * p[0] + uy * p[1] + uz * p[2] + offset,
-              dx * p[0] + dy * p[1] + dz * p[2] + 0.5f};
-  }
+  for (std::size_t i = 0; i < scene.positions.size(); ++i) out[i] = project(scene.positions[i]);
 }
 
 void render_frames(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,

@@ -202,7 +202,17 @@ class TallyConsumer final : public FrameConsumer {
     // Pass 1, branch-free (which case a vertex falls in is a coin toss on a scan): behind the
     // bilinear surface (which is never nearer than the nearest sample) or not; the vertices
     // neither clearly seen nor clearly hidden are kept for pass 2.
-    for (std::size_t i = 0; i < frame.vertices.size(); ++i) {
+    const std::array<float, 3> direction = to_float(frame.view.direction);
+    const VertexCone* cones = scene_.vertex_cones.data();
+    const std::size_t vertex_count = frame.vertices.size();
+    const bool have_cones = scene_.vertex_cones.size() == vertex_count;
+    for (std::size_t i = 0; i < vertex_count; ++i) {
+      // All of the vertex's faces turned away: its test cannot matter (and pass 1 is bound
+      // by its loads: this skips about 45% of the dragon's vertices per camera).
+      if (have_cones && cones[i].all_back_facing(direction)) {
+        seen[i] = 0;
+        continue;
+      }
       const ScreenVertex& v = frame.vertices[i];
       // Screen coordinates are positive, so truncation is the floor (or 0 where clamped anyway).
       const int px = std::min(static_cast<int>(v.x - 0.5f), size - 2);

@@ -36,6 +36,18 @@ struct NormalCone {
   }
 };
 
+/// The same for the faces around one vertex, packed in 4 bytes (a per-vertex loop is bound by
+/// its loads): axis and cutoff scaled by 127, the cutoff lowered by the axis's rounding.
+struct VertexCone {
+  std::array<std::int8_t, 4> packed{0, 0, 0, -128};  ///< -128: never all turned away
+
+  bool all_back_facing(const std::array<float, 3>& d) const {
+    return static_cast<float>(packed[0]) * d[0] + static_cast<float>(packed[1]) * d[1] +
+               static_cast<float>(packed[2]) * d[2] <
+           static_cast<float>(packed[3]);
+  }
+};
+
 /// Radius of the sphere every view covers: half the box diagonal plus 1%, so no vertex
 /// projects onto the image border or to depth exactly 0 or 1 (1 for an empty or point box).
 double view_radius(const BoundingBox& box);
@@ -56,9 +68,13 @@ struct RenderScene {
   /// faces, and a consumer that ignores them, skip whole clusters. Worth it when faces are
   /// in a spatially coherent order (see visibility.cpp).
   std::vector<NormalCone> clusters;
+  /// Empty, or one cone per vertex over the faces that use it: a consumer may skip
+  /// per-vertex work for a camera that every one of those faces turns its back to.
+  std::vector<VertexCone> vertex_cones;
 
-  /// Fills `clusters` from the given unit face normals (zero for degenerate faces). A
-  /// cluster holding a face at or past culled_faces is never skipped (cutoff -2).
+  /// Fills `clusters` and `vertex_cones` from the given unit face normals (zero for
+  /// degenerate faces, which never face a camera). A cluster or vertex with a face at or
+  /// past culled_faces is never skipped.
   void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals);
 
   static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces);
@@ -79,6 +95,20 @@ struct OrthoView {
 /// One vertex in screen space: pixel coordinates and depth as defined above.
 struct ScreenVertex {
   float x, y, depth;
+};
+
+/// The projection of `view` in float, for one scene position at a time (a backend that needs
+/// more per vertex does it in the same pass instead of reading the vertices back).
+class Projection {
+ public:
+  explicit Projection(const OrthoView& view);
+  ScreenVertex operator()(const std::array<float, 3>& p) const {
+    return {rx_ * p[0] + ry_ * p[1] + rz_ * p[2] + offset_, ux_ * p[0] + uy_ * p[1] + uz_ * p[2] + offset_,
+            dx_ * p[0] + dy_ * p[1] + dz_ * p[2] + 0.5f};
+  }
+
+ private:
+  float rx_, ry_, rz_, ux_, uy_, uz_, dx_, dy_, dz_, offset_;
 };
 
 /// Projects every scene vertex for `view` (the one projection all backends and consumers use).
