@@ -112,26 +112,26 @@ OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int reso
   return view;
 }
 
-Projection::Projection(const OrthoView& view) {
+void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out) {
   const double half = 0.5 * view.resolution;
   const double pixels_per_unit = half / view.radius;
-  rx_ = static_cast<float>(view.right.x * pixels_per_unit);
-  ry_ = static_cast<float>(view.right.y * pixels_per_unit);
-  rz_ = static_cast<float>(view.right.z * pixels_per_unit);
-  ux_ = static_cast<float>(view.up.x * pixels_per_unit);
-  uy_ = static_cast<float>(view.up.y * pixels_per_unit);
-  uz_ = static_cast<float>(view.up.z * pixels_per_unit);
+  const float rx = static_cast<float>(view.right.x * pixels_per_unit);
+  const float ry = static_cast<float>(view.right.y * pixels_per_unit);
+  const float rz = static_cast<float>(view.right.z * pixels_per_unit);
+  const float ux = static_cast<float>(view.up.x * pixels_per_unit);
+  const float uy = static_cast<float>(view.up.y * pixels_per_unit);
+  const float uz = static_cast<float>(view.up.z * pixels_per_unit);
   const double depth_per_unit = -0.5 / view.radius;
-  dx_ = static_cast<float>(view.direction.x * depth_per_unit);
-  dy_ = static_cast<float>(view.direction.y * depth_per_unit);
-  dz_ = static_cast<float>(view.direction.z * depth_per_unit);
-  offset_ = static_cast<float>(half);
-}
-
-void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out) {
-  const Projection project(view);
+  const float dx = static_cast<float>(view.direction.x * depth_per_unit);
+  const float dy = static_cast<float>(view.direction.y * depth_per_unit);
+  const float dz = static_cast<float>(view.direction.z * depth_per_unit);
+  const float offset = static_cast<float>(half);
   out.resize(scene.positions.size());
-  for (std::size_t i = 0; i < scene.positions.size(); ++i) out[i] = project(scene.positions[i]);
+  for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+    const auto& p = scene.positions[i];
+    out[i] = {rx * p[0] + ry * p[1] + rz * p[2] + offset, ux * p[0] + uy * p[1] + uz * p[2] + offset,
+              dx * p[0] + dy * p[1] + dz * p[2] + 0.5f};
+  }
 }
 
 void render_frames(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,

@@ -73,16 +73,10 @@ class RasterRenderer final : public Renderer {
     const std::size_t pixels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
     frame.ids.assign(pixels, 0);
     frame.depth.assign(pixels, 1.0f);
-    // Projected and snapped in one pass (the same projection as project_vertices()).
-    const Projection project(frame.view);
-    const std::size_t vertex_count = scene.positions.size();
-    frame.vertices.resize(vertex_count);
-    snapped.resize(vertex_count);
-    for (std::size_t i = 0; i < vertex_count; ++i) {
-      const ScreenVertex s = project(scene.positions[i]);
-      frame.vertices[i] = s;
-      snapped[i] = snap(s);
-    }
+    project_vertices(scene, frame.view, frame.vertices);
+    const std::vector<ScreenVertex>& v = frame.vertices;
+    snapped.resize(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) snapped[i] = snap(v[i]);
 
     const std::array<float, 3> direction{static_cast<float>(frame.view.direction.x),
                                          static_cast<float>(frame.view.direction.y),

@@ -97,20 +97,6 @@ struct ScreenVertex {
   float x, y, depth;
 };
 
-/// The projection of `view` in float, for one scene position at a time (a backend that needs
-/// more per vertex does it in the same pass instead of reading the vertices back).
-class Projection {
- public:
-  explicit Projection(const OrthoView& view);
-  ScreenVertex operator()(const std::array<float, 3>& p) const {
-    return {rx_ * p[0] + ry_ * p[1] + rz_ * p[2] + offset_, ux_ * p[0] + uy_ * p[1] + uz_ * p[2] + offset_,
-            dx_ * p[0] + dy_ * p[1] + dz_ * p[2] + 0.5f};
-  }
-
- private:
-  float rx_, ry_, rz_, ux_, uy_, uz_, dx_, dy_, dz_, offset_;
-};
-
 /// Projects every scene vertex for `view` (the one projection all backends and consumers use).
 void project_vertices(const RenderScene& scene, const OrthoView& view, std::vector<ScreenVertex>& out);
 
