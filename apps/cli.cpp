@@ -119,9 +119,23 @@ std::vector<std::size_t> parse_count_list(const std::string& text, const std::st
   return counts;
 }
 
-Mesh read_input(const std::string& path, const StreamOptions& o) {
-  return read_mesh(path, chosen_format(o.input_format, o.format));
+Mesh read_input(const std::string& path, StreamOptions& o) {
+  FormatChoice choice;
+  Mesh mesh = read_mesh(path, chosen_format(o.input_format, o.format), &choice);
+  o.input_choice = choice;
+  return mesh;
 }
+
+void require_faces(const Mesh& mesh, const std::string& path, const std::string& what) {
+  if (mesh.num_faces() > 0) return;
+  throw InvalidMeshError((path == "-" ? std::string("<stdin>") : path) + ": no faces to " + what + " (" +
+                         std::to_string(mesh.num_vertices()) + " vertices, 0 faces)");
+}
+
+std::string input_format_name(const StreamOptions& o) {
+  return o.input_choice ? format_name(o.input_choice->format) : "";
+}
+bool input_format_detected(const StreamOptions& o) { return o.input_choice && o.input_choice->detected; }
 
 void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o) {
   namespace fs = std::filesystem;
@@ -130,7 +144,9 @@ void write_output(const Mesh& mesh, const std::string& path, const std::string& 
     throw UsageError(path + ": output would overwrite the input (use --in-place to allow it)");
   WriteOptions w;
   w.binary = !o.ascii;
-  write_mesh(mesh, path, chosen_format(o.output_format, o.format), w);
+  std::optional<Format> format = chosen_format(o.output_format, o.format);
+  if (!format && path == "-" && o.input_choice) format = o.input_choice->format;  // stdout: as the input came
+  write_mesh(mesh, path, format, w);
 }
 
 ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), enabled_(::isatty(STDERR_FILENO) == 1) {}

@@ -45,10 +45,19 @@ struct StreamOptions {
   bool ascii = false;         // PLY/STL: write ascii instead of binary
   bool in_place = false;      // allow OUT to be the same file as IN
   bool json = false;          // machine-readable summary
+  /// Set by read_input: the format the (last) input was read as, and whether its content
+  /// decided it. "-" as OUT without --format is written in that format.
+  std::optional<FormatChoice> input_choice;
 };
 std::vector<OptionSpec> describe_options(StreamOptions& o, bool has_output);
 
-Mesh read_input(const std::string& path, const StreamOptions& o);
+Mesh read_input(const std::string& path, StreamOptions& o);
+/// Throws InvalidMeshError (exit 1) naming `path` when the mesh has no faces: nothing to
+/// `what` ("simplify", "measure", "compare").
+void require_faces(const Mesh& mesh, const std::string& path, const std::string& what);
+/// For --json: the input's format ("" before read_input) and whether its content decided it.
+std::string input_format_name(const StreamOptions& o);
+bool input_format_detected(const StreamOptions& o);
 
 /// "50000,20000,5000" → counts; throws UsageError naming `what`.
 std::vector<std::size_t> parse_count_list(const std::string& text, const std::string& what);

@@ -87,6 +87,7 @@ int run_compare(const Args& args) {
   const auto renderer = make_renderer(sampling.backend, render_options(sampling));
 
   const Mesh mesh = read_input(in, stream);
+  require_faces(mesh, in, "compare");
   CompareResult result;
   {
     CompareProgress progress;
@@ -105,6 +106,8 @@ int run_compare(const Args& args) {
     json.begin_object()
         .field("command", "compare")
         .field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
         .field("directory", directory)
         .field("faces_in", result.faces_in)
         .field("mesh_visibility", result.visibility.mesh)

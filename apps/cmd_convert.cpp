@@ -24,6 +24,8 @@ int run_convert(const Args& args) {
     json.begin_object()
         .field("command", "convert")
         .field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
         .field("output", out)
         .field("vertices", mesh.num_vertices())
         .field("faces", mesh.num_faces())

@@ -39,6 +39,8 @@ int run_info(const Args& args) {
     JsonWriter json(std::cout);
     json.begin_object()
         .field("file", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
         .field("vertices", s.vertices)
         .field("faces", s.faces)
         .field("edges", s.edges)

@@ -166,7 +166,10 @@ int run_build(const Args& args) {
   const double mean_seen = static_cast<double>(set_bits) / static_cast<double>(cameras.size());
   if (stream.json) {
     JsonWriter json(std::cout);
-    json.begin_object().field("command", "patches build").field("input", in).field("output", out);
+    json.begin_object().field("command", "patches build").field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
+        .field("output", out);
     json.field("faces", mesh.num_faces()).field("unit", per_face ? "face" : "patch");
     json.field("units", partition.patch_count()).field("components", partition.components);
     json.field("camera_set", cameras.name).field("cameras", cameras.size());

@@ -77,6 +77,7 @@ int run_simplify(const Args& args) {
 
   auto t = std::chrono::steady_clock::now();
   Mesh mesh = read_input(in, stream);
+  require_faces(mesh, in, "simplify");
   const double read_seconds = seconds_since(t);
   const double diagonal = bounding_box(mesh).diagonal();
 
@@ -134,6 +135,8 @@ int run_simplify(const Args& args) {
     json.begin_object()
         .field("command", "simplify")
         .field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
         .field("method", method)
         .field("bbox_diagonal", diagonal);
     if (visibility) {

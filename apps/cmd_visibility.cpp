@@ -100,6 +100,7 @@ int run_visibility(const Args& args) {
 
   const auto start = std::chrono::steady_clock::now();
   const Mesh mesh = read_input(in, stream);
+  require_faces(mesh, in, "measure");
   const double read_seconds = seconds_since(start);
   const VisibilityJob job(mesh, renderer->resolution(), options);
   auto t = std::chrono::steady_clock::now();
@@ -132,7 +133,10 @@ int run_visibility(const Args& args) {
   std::ostream& report = out == "-" ? std::cerr : std::cout;
   if (stream.json) {
     JsonWriter json(report);
-    json.begin_object().field("command", "visibility").field("input", in).field("output", out);
+    json.begin_object().field("command", "visibility").field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
+        .field("output", out);
     if (!tally_path.empty()) json.field("tally", tally_path);
     json.field("backend", renderer->name()).field("camera_set", cameras.name);
     json.field("camera_first", first).field("camera_last", last).field("fractional", options.fractional);
@@ -183,6 +187,7 @@ int run_orient(const Args& args) {
   const auto renderer = make_renderer(sampling.backend, render_options(sampling));
   const auto start = std::chrono::steady_clock::now();
   const Mesh mesh = read_input(in, stream);
+  require_faces(mesh, in, "orient");
   Visibility visibility;
   {
     ProgressBar progress("visibility");
@@ -193,7 +198,10 @@ int run_orient(const Args& args) {
   std::ostream& report = out == "-" ? std::cerr : std::cout;
   if (stream.json) {
     JsonWriter json(report);
-    json.begin_object().field("command", "orient").field("input", in).field("output", out);
+    json.begin_object().field("command", "orient").field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
+        .field("output", out);
     json.field("faces", mesh.num_faces())
         .field("reversed_faces", result.reversed)
         .field("seen_from_both_sides_faces", result.seen_from_both_sides)
@@ -286,6 +294,7 @@ int run_visibility_study(const Args& args) {
   if (max_level < 1 || max_level > 5) throw UsageError("--max-level must be in 1..5");
   const std::string& in = parser.positionals()[0];
   const Mesh mesh = read_input(in, stream);
+  require_faces(mesh, in, "measure");
   const auto renderer = make_renderer(sampling.backend, render_options(sampling));
 
   struct Row {
@@ -340,7 +349,10 @@ int run_visibility_study(const Args& args) {
   }
   if (stream.json) {
     JsonWriter json(std::cout);
-    json.begin_object().field("command", "visibility-study").field("input", in).field("backend", renderer->name());
+    json.begin_object().field("command", "visibility-study").field("input", in)
+        .field("input_format", input_format_name(stream))
+        .field("format_detected", input_format_detected(stream))
+        .field("backend", renderer->name());
     json.field("resolution", sampling.resolution).field("reference_cameras", rows.back().cameras);
     json.key("rows").begin_array();
     for (const Row& r : rows) {

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "visimp/core/errors.h"
+#include "visimp/io/interrupt_cleanup.h"
 
 namespace {
 
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   }
   const std::string command = argv[1];
   const app::Args args(argv + 2, argv + argc);
+  install_interrupt_cleanup();  // no temporary file outlives a Ctrl-C, a kill or a hang-up
   try {
     if (command == "--help" || command == "-h" || command == "help") {
       std::cout << kUsage;

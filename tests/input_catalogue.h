@@ -16,9 +16,13 @@ struct BadInput {
   std::string file;      ///< file name whose extension selects the reader ("x.ply")
   std::string bytes;
   std::string expected;  ///< a fragment of the error message
+  /// A well-formed file with nothing in it to simplify, measure or compare (no faces): the
+  /// readers accept it, the commands refuse it.
+  bool readable = false;
 };
 
-/// At least 40 invalid inputs across PLY, OBJ, OFF and STL.
+/// At least 60 invalid inputs across PLY, OBJ, OFF and STL, with missing, unknown and wrong
+/// extensions.
 std::vector<BadInput> bad_inputs();
 
 struct ExtremeMesh {

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -98,23 +97,14 @@ Mesh icosphere(int levels, double radius) {
 std::vector<std::string> real_mesh_paths(bool include_shared) {
   std::vector<std::string> paths;
   for (const char* f : {"bunny.ply", "fandisk_cad.ply", "teapot.ply", "kicad_esp_wroom02.ply", "aneurysm_open.ply"})
-    paths.push_back(std::string(VISIMP_MESHES_DIR) + "/" + f);
-  if (include_shared) {
-    for (const char* f : {"ifc_house_messy.ply", "kicad_cap_snapin_d40.ply", "kicad_dsub62_male.ply"}) {
-      const std::string p = std::string(VISIMP_SHARED_MESHES_DIR) + "/" + f;
-      if (std::filesystem::exists(p)) paths.push_back(p);
-    }
-  }
+    paths.push_back(bundled_mesh(f));
+  if (include_shared)
+    for (const char* f : {"ifc_house_messy.ply", "kicad_cap_snapin_d40.ply", "kicad_dsub62_male.ply"})
+      paths.push_back(shared_mesh(f));
   return paths;
 }
 
 std::string bundled_mesh(const std::string& file) { return std::string(VISIMP_MESHES_DIR) + "/" + file; }
-
-std::string temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("visimp_test_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
+std::string shared_mesh(const std::string& file) { return std::string(VISIMP_SHARED_MESHES_DIR) + "/" + file; }
 
 }  // namespace visimp::test

@@ -16,12 +16,11 @@ Mesh subdivided_cube(int n);
 /// A closed icosphere of radius r, subdivided `levels` times (20·4^levels faces).
 Mesh icosphere(int levels, double radius = 1.0);
 
-/// Paths of the bundled meshes in meshes/ plus those in ../shared/meshes when present
-/// (only those listed in `names`, or all when empty); the dragon is left to bench/.
+/// Paths of the bundled meshes in meshes/ plus those of ../shared/meshes, listed whether or
+/// not the shared ones are present: a test must GTEST_SKIP (or note) an absent one by name,
+/// never drop it silently. The dragon is left to bench/.
 std::vector<std::string> real_mesh_paths(bool include_shared = true);
-std::string bundled_mesh(const std::string& file);  // meshes/<file>
-
-/// A fresh empty directory under the test temp dir.
-std::string temp_dir(const std::string& name);
+std::string bundled_mesh(const std::string& file);  // meshes/<file>, always present
+std::string shared_mesh(const std::string& file);   // ../shared/meshes/<file>, may be absent
 
 }  // namespace visimp::test

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "app_runner.h"
+#include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/io/mesh_io.h"
 
@@ -22,11 +23,9 @@ using test::run;
 
 class App : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir = test::temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
-    bunny = test::bundled_mesh("bunny.ply");
-  }
-  std::string dir, bunny;
+  // Each test's outputs live in its own directory, removed when the fixture is destroyed.
+  const test::TempDir temp{::testing::UnitTest::GetInstance()->current_test_info()->name()};
+  const std::string dir = temp.path(), bunny = test::bundled_mesh("bunny.ply");
 };
 
 TEST_F(App, HelpEverywhereExitsZero) {
@@ -105,6 +104,42 @@ TEST_F(App, PipesThroughStdinAndStdout) {
   EXPECT_NE(r.err.find("\"faces_out\""), std::string::npos);   // the summary to stderr
   std::ofstream(out) << r.out;
   EXPECT_EQ(read_mesh(out).num_faces(), 1836u);
+}
+
+TEST_F(App, TheContentDecidesWhenTheExtensionIsMissingOrWrong) {
+  // An OBJ named .ply, a PLY without extension, a PLY on stdin without --format.
+  ASSERT_EQ(run("convert " + bunny + " " + dir + "/bunny.obj", dir).code, 0);
+  std::filesystem::copy_file(dir + "/bunny.obj", dir + "/obj_in_disguise.ply");
+  std::filesystem::copy_file(bunny, dir + "/bunny_no_extension");
+  for (const std::string& in : {dir + "/obj_in_disguise.ply", dir + "/bunny_no_extension"}) {
+    const AppRun r = run("simplify " + in + " " + dir + "/out.ply --ratio 0.5 --json", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"format_detected\": true"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+  }
+  const AppRun named = run("info " + bunny + " --no-visibility --json", dir);
+  EXPECT_NE(named.out.find("\"format_detected\": false"), std::string::npos) << named.out;
+  EXPECT_NE(named.out.find("\"input_format\": \"ply\""), std::string::npos) << named.out;
+  // stdin without --format, stdout in the input's format (OBJ in, OBJ out).
+  const AppRun piped = run("simplify - - --ratio 0.5", dir, dir + "/bunny.obj");
+  ASSERT_EQ(piped.code, 0) << piped.err;
+  EXPECT_EQ(piped.out.rfind("v ", 0) == 0 || piped.out.rfind("#", 0) == 0, true) << piped.out.substr(0, 80);
+  EXPECT_NE(piped.out.find("\nf "), std::string::npos);
+}
+
+TEST_F(App, NothingToSimplifyExitsOne) {
+  const std::string empty = dir + "/vertices_only.ply";
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  write_mesh(m, empty);
+  for (const std::string& cmd : {"simplify " + empty + " " + dir + "/o.ply --ratio 0.5", "visibility " + empty + " " + dir + "/o.ply",
+                                "compare " + empty + " -o " + dir + "/cmp"}) {
+    const AppRun r = run(cmd, dir);
+    EXPECT_EQ(r.code, 1) << cmd;
+    EXPECT_NE(r.err.find(empty + ": no faces"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(run("info " + empty + " --json", dir).code, 0);  // describing it is fine
+  EXPECT_EQ(run("convert " + empty + " " + dir + "/v.obj", dir).code, 0);
 }
 
 TEST_F(App, InfoReportsTopologyAsJson) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 
+#include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/core/errors.h"
 
@@ -81,7 +82,8 @@ TEST(DodecahedronCameras, TwentyVerticesThreeEqualNeighbours) {
 }
 
 TEST(CameraFile, ReadsNormalisesAndRejectsBadLines) {
-  const std::string dir = test::temp_dir("camera_file");
+  const test::TempDir temp("camera_file");
+  const std::string& dir = temp.path();
   {
     std::ofstream(dir + "/good.txt") << "# two cameras\n0 0 2\n\n1 1 0  # diagonal\n";
   }

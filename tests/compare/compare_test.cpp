@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/core/errors.h"
 #include "visimp/io/mesh_io.h"
@@ -142,7 +143,8 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
   CompareOptions options = quick_options({1000, 400});
   options.tie_noise_runs = 2;
   const CompareResult r = compare_methods(bunny, octahedron_cameras(1), *renderer, options);
-  const std::string dir = test::temp_dir("compare_report");
+  const test::TempDir temp("compare_report");
+  const std::string& dir = temp.path();
   const std::vector<std::string> written = write_compare_report(r, bunny, "bunny", dir);
   for (const char* name : {"results.csv", "results.json", "image_error_vs_faces.svg", "image_error_vs_seconds.svg",
                            "geometric_error_vs_faces.svg", "geometric_error_vs_seconds.svg", "visibility.png",
@@ -221,7 +223,8 @@ TEST(Compare, LevelsBelowWhatTheMethodsCanReachAreReportedAsSuch) {
   const std::string note = unreached_levels_note(r);
   EXPECT_NE(note.find("QB stops at 84 faces, above 1 of the 2 targets (no_legal_collapse)"), std::string::npos) << note;
   EXPECT_NE(note.find("VG stops at 84 faces"), std::string::npos) << note;
-  const std::string dir = test::temp_dir("compare_unreached");
+  const test::TempDir temp("compare_unreached");
+  const std::string& dir = temp.path();
   write_compare_report(r, m, "spheres", dir);
   const std::vector<std::string> csv = lines_of(dir + "/results.csv");
   ASSERT_EQ(csv.size(), 5u);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
@@ -164,7 +165,8 @@ TEST(MeshIo, RealMeshesRoundTripThroughEveryFormat) {
 }
 
 TEST(MeshIo, WriteIsAtomicAndLeavesNoTemporaryFiles) {
-  const std::string dir = test::temp_dir("atomic");
+  const test::TempDir temp("atomic");
+  const std::string& dir = temp.path();
   const std::string path = dir + "/out.ply";
   write_mesh(test::grid(2), path);
   write_mesh(test::grid(3), path);  // replaces the file in one rename
@@ -175,7 +177,8 @@ TEST(MeshIo, WriteIsAtomicAndLeavesNoTemporaryFiles) {
 }
 
 TEST(MeshIo, FailedWriteKeepsTheOldFile) {
-  const std::string dir = test::temp_dir("failed_write");
+  const test::TempDir temp("failed_write");
+  const std::string& dir = temp.path();
   const std::string path = dir + "/out.ply";
   write_mesh(test::grid(2), path);
   Mesh bad = test::grid(1);
@@ -189,6 +192,30 @@ TEST(MeshIo, FormatFromPath) {
   EXPECT_EQ(format_from_path("x.stl"), Format::stl);
   EXPECT_THROW(format_from_path("x.dae"), UsageError);
   EXPECT_THROW(format_from_path("noext"), UsageError);
+}
+
+TEST(DetectFormat, EveryWriterIsRecognisedAndJunkIsNot) {
+  const Mesh m = test::icosphere(1);
+  for (const Format f : {Format::ply, Format::obj, Format::off, Format::stl}) {
+    for (const bool binary : {true, false}) {
+      std::ostringstream out;
+      WriteOptions options;
+      options.binary = binary;
+      write_mesh(m, out, f, options);
+      EXPECT_EQ(detect_format(out.str()), f) << format_name(f) << (binary ? " binary" : " ascii");
+    }
+  }
+  // A binary STL whose header starts with "solid" is still binary (its size says so).
+  std::string stl(80, ' ');
+  stl.replace(0, 5, "solid");
+  const std::uint32_t one = 1;
+  stl.append(reinterpret_cast<const char*>(&one), 4).append(50, '\0');
+  EXPECT_EQ(detect_format(stl), Format::stl);
+  EXPECT_EQ(detect_format("# a comment\n\nv 0 0 0\n"), Format::obj);
+  EXPECT_EQ(detect_format("# comment\nCOFF\n3 1 0\n"), Format::off);
+  for (const char* junk : {"", "hello\n", "plyx\n", "3 1 0\n", "solid and nothing else\n", "OFFICE\n"}) {
+    EXPECT_FALSE(detect_format(junk).has_value()) << junk;
+  }
 }
 
 }  // namespace

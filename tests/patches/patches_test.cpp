@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 
+#include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/cameras/camera_set.h"
 #include "visimp/core/errors.h"
@@ -334,7 +335,8 @@ TEST(BitfieldFile, RoundTripsAndRejectsAnotherMesh) {
   options.count = 50;
   const PatchPartition patches = build_patches(bunny, options);
   const BitfieldSet set = make_set(bunny, patches, false, octahedron_cameras(2));
-  const std::string dir = test::temp_dir("vbf");
+  const test::TempDir temp("vbf");
+  const std::string& dir = temp.path();
   for (bool compress : {false, true}) {
     const std::string path = dir + (compress ? "/c.vbf" : "/r.vbf");
     const BitfieldFileSizes sizes = write_bitfield_file(set, path, compress);
@@ -382,7 +384,8 @@ TEST(BitfieldFile, RoundTripsAndRejectsAnotherMesh) {
 }
 
 TEST(BitfieldFile, FaceListsNameTheLine) {
-  const std::string dir = test::temp_dir("facelist");
+  const test::TempDir temp("facelist");
+  const std::string& dir = temp.path();
   std::ofstream(dir + "/ok.txt") << "# glass\n0 2\n  5\n";
   const auto flags = read_face_list(dir + "/ok.txt", 6);
   EXPECT_EQ(flags, (std::vector<std::uint8_t>{1, 0, 1, 0, 0, 1}));

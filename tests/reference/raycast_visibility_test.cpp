@@ -40,7 +40,7 @@ TEST(RaycastReference, VisimpAgreesOnScansAndCadParts) {
   // The bounds, held at 66 cameras (both sides) and 480² / 512².
   std::vector<std::string> paths = {test::bundled_mesh("bunny.ply"), test::bundled_mesh("kicad_esp_wroom02.ply")};
   for (const char* name : {"kicad_cap_snapin_d40.ply", "kicad_dsub62_male.ply"}) {
-    const std::string path = std::string(VISIMP_SHARED_MESHES_DIR) + "/" + name;
+    const std::string path = test::shared_mesh(name);
     if (std::ifstream(path)) paths.push_back(path);
     else std::cout << "[ note ] " << path << " is absent (../shared/meshes): not compared\n";
   }

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <random>
 
+#include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/core/union_find.h"
 #include "visimp/io/mesh_io.h"
@@ -27,8 +28,6 @@ Mesh reversed_where(Mesh m, Pick pick) {
   }
   return m;
 }
-
-std::string shared_mesh(const char* name) { return std::string(VISIMP_SHARED_MESHES_DIR) + "/" + name; }
 
 TEST(Winding, ReversingFacesOfAScanChangesNothing) {
   const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));  // closed, outward
@@ -74,7 +73,7 @@ TEST(Winding, OpenSurfacesAreMeasuredFromTheirBetterSeenSide) {
 }
 
 TEST(Winding, CadPartWithReversedComponents) {
-  const std::string path = shared_mesh("kicad_dsub62_male.ply");
+  const std::string path = test::shared_mesh("kicad_dsub62_male.ply");
   if (!std::ifstream(path)) GTEST_SKIP() << path << " is absent (../shared/meshes)";
   const Mesh dsub = read_mesh(path);
   UnionFind parts(dsub.num_vertices());
@@ -122,7 +121,7 @@ TEST(DepthTest, PartsJustBehindAThinShellStayHidden) {
 TEST(DepthTest, TheCapacitorsInnerDiscIsNeverSeen) {
   // meshes/SOURCES.md: the disc is 14.0% of the area and no ray reaches it; it lies about
   // 2 px (at 480²) below the can's lid, closer than the old slope allowance.
-  const std::string path = shared_mesh("kicad_cap_snapin_d40.ply");
+  const std::string path = test::shared_mesh("kicad_cap_snapin_d40.ply");
   if (!std::ifstream(path)) GTEST_SKIP() << path << " is absent (../shared/meshes)";
   const Visibility v = measure(read_mesh(path), 480, {}, octahedron_cameras(3));
   EXPECT_NEAR(v.stats.hidden_area_fraction, 0.140, 0.005);
@@ -152,7 +151,8 @@ TEST(Tally, BackSidesMergeAndRoundTrip) {
   a.merge(job.render(cameras, 7, 18, *renderer));
   EXPECT_EQ(a.seen_back, all.seen_back);
   EXPECT_EQ(a.total_back, all.total_back);
-  const std::string path = test::temp_dir("tally_back") + "/all.bin";
+  const test::TempDir temp("tally_back");
+  const std::string path = temp.path() + "/all.bin";
   all.write(path);
   const VisibilityTally back = VisibilityTally::read(path);
   EXPECT_EQ(back.seen_back, all.seen_back);

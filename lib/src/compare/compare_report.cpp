@@ -251,10 +251,10 @@ std::string html(const CompareResult& r, const std::string& input_name, std::siz
 std::vector<std::string> write_compare_report(const CompareResult& r, const Mesh& input, const std::string& input_name,
                                               const std::string& directory) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(directory, ec);
-  if (!fs::is_directory(directory)) throw IoError(directory, "cannot create the output directory: " + ec.message());
-  const fs::path dir(directory);
+  // All or nothing: the files go to a staging directory that replaces `directory` at the end,
+  // so an interrupted or failed run leaves the previous report whole.
+  StagedDirectory staged(directory);
+  const fs::path dir(staged.path());
   auto at = [&](const std::string& name) { return (dir / name).string(); };
   std::vector<std::string> written;
   write_text(at("results.csv"), csv(r), written);
@@ -282,6 +282,8 @@ std::vector<std::string> write_compare_report(const CompareResult& r, const Mesh
             side_by_side({grey_picture(input, 480), grey_picture(r.qb[middle].mesh, 480), grey_picture(r.vg[middle].mesh, 480)}));
   written.push_back(at("side_by_side.png"));
   write_text(at("report.html"), html(r, input_name, middle), written);
+  staged.commit();
+  for (std::string& path : written) path = (fs::path(directory) / fs::path(path).filename()).string();
   return written;
 }
 

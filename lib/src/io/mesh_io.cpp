@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -82,11 +83,90 @@ Mesh read_mesh(std::istream& in, Format format, const std::string& name) {
   return read_mesh_from_bytes(all.str(), format, name);
 }
 
-Mesh read_mesh(const std::string& path, std::optional<Format> format) {
-  if (path == "-" && !format) throw UsageError("reading standard input needs an explicit --format");
-  const Format f = format ? *format : format_from_path(path);
+namespace {
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+
+// The first whitespace-separated token of the first line that is neither blank nor a '#' comment.
+std::string_view first_token(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    while (i < text.size() && is_space(text[i])) ++i;
+    if (i < text.size() && text[i] == '#') {
+      while (i < text.size() && text[i] != '\n') ++i;
+      continue;
+    }
+    std::size_t end = i;
+    while (end < text.size() && !is_space(text[end])) ++end;
+    return text.substr(i, end - i);
+  }
+  return {};
+}
+
+bool is_off_keyword(std::string_view t) {
+  // [ST][C][N][4][n]OFF (Geomview's optional prefixes), e.g. OFF, COFF, NOFF, STCNOFF, 4OFF.
+  if (t.size() < 3 || t.substr(t.size() - 3) != "OFF") return false;
+  for (const char c : t.substr(0, t.size() - 3)) {
+    if (std::string_view("STCN4n").find(c) == std::string_view::npos) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<Format> detect_format(std::string_view bytes) {
+  if (bytes.size() >= 4 && bytes.substr(0, 3) == "ply" && (bytes[3] == '\n' || bytes[3] == '\r')) return Format::ply;
+  if (bytes.size() >= 84) {
+    std::uint32_t triangles = 0;
+    std::memcpy(&triangles, bytes.data() + 80, 4);  // little-endian, as STL is
+    if (84 + 50 * static_cast<std::uint64_t>(triangles) == bytes.size()) return Format::stl;
+  }
+  const std::string_view head = bytes.substr(0, 4096);
+  const std::string_view token = first_token(head);
+  if (token == "solid" && bytes.substr(0, 4096).find("facet") != std::string_view::npos) return Format::stl;
+  if (is_off_keyword(token)) return Format::off;
+  for (const char* keyword : {"v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s", "mtllib", "usemtl"}) {
+    if (token == keyword) return Format::obj;
+  }
+  return std::nullopt;
+}
+
+Mesh read_mesh(const std::string& path, std::optional<Format> format, FormatChoice* choice) {
   const std::string name = path == "-" ? std::string("<stdin>") : path;
-  return read_mesh_from_bytes(read_file_bytes(path), f, name);
+  const std::string bytes = read_file_bytes(path);
+  FormatChoice chosen;
+  if (format) {
+    chosen.format = *format;
+  } else {
+    const std::string ext = path == "-" ? std::string() : std::filesystem::path(path).extension().string();
+    // Plain flags, not optionals: GCC 12 warns (wrongly) that a disengaged one may be read.
+    Format extension_format = Format::ply, content_format = Format::ply;
+    bool has_extension = false, has_content = false;
+    if (const auto f = ext.empty() ? std::nullopt : parse_format(ext.substr(1))) {
+      extension_format = *f;
+      has_extension = true;
+    }
+    if (const auto f = detect_format(bytes)) {
+      content_format = *f;
+      has_content = true;
+    }
+    if (has_extension && (!has_content || content_format == extension_format)) {
+      chosen.format = extension_format;  // a broken file of the named format gets that reader's error
+    } else if (has_content) {
+      chosen = {content_format, true};
+    } else if (bytes.empty()) {
+      throw IoError(name, "file is empty");
+    } else {
+      throw IoError(name, (ext.empty() ? std::string("no extension") : "unknown extension '" + ext + "'") +
+                              ", and the content is none of PLY, OBJ, OFF or STL (name the format explicitly)");
+    }
+  }
+  if (choice != nullptr) *choice = chosen;
+  if (!chosen.detected) return read_mesh_from_bytes(bytes, chosen.format, name);
+  // Say which reader the content chose, or the error would puzzle ("x.obj: not a PLY ...").
+  std::string upper = format_name(chosen.format);
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return read_mesh_from_bytes(bytes, chosen.format, name + " (" + upper + " by its content)");
 }
 
 void write_mesh(const Mesh& mesh, std::ostream& out, Format format, const WriteOptions& options) {

@@ -44,9 +44,25 @@ const char* format_name(Format format);
 /// The format implied by a path's extension; throws UsageError when it has none we know.
 Format format_from_path(const std::string& path);
 
-/// Reads a mesh file. path "-" reads standard input and then needs an explicit format.
-/// Throws IoError (unreadable, malformed, or invalid content such as NaN coordinates).
-Mesh read_mesh(const std::string& path, std::optional<Format> format = std::nullopt);
+/// The format the first bytes announce, or nullopt when they match none. The four formats
+/// are told apart without ambiguity: "ply" on the first line; an OFF keyword ([ST][C][N][4]OFF)
+/// as the first token; a binary STL's size, 84 + 50 × its triangle count; "solid" followed by
+/// "facet"; an OBJ keyword (v, vt, vn, f, o, g, ...) opening the first line that is not a comment.
+std::optional<Format> detect_format(std::string_view bytes);
+
+/// How read_mesh chose the format of a file.
+struct FormatChoice {
+  Format format = Format::ply;
+  /// True when the content decided: the path had no known extension (or was "-"), or its
+  /// extension named another format than the bytes announce.
+  bool detected = false;
+};
+
+/// Reads a mesh file. Without an explicit format the extension decides, unless the content
+/// announces another format (then the content wins) or the path has none (stdin "-", no
+/// extension): then the content decides. Throws IoError (unreadable, malformed, no format
+/// recognised, or invalid content such as NaN coordinates).
+Mesh read_mesh(const std::string& path, std::optional<Format> format = std::nullopt, FormatChoice* choice = nullptr);
 /// Reads from memory or a stream; `name` is used in error messages.
 Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::string& name);
 Mesh read_mesh(std::istream& in, Format format, const std::string& name);
