@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <string>
 
+#include "bench_main.h"
 #include "child_process.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/io/mesh_io.h"
@@ -94,8 +95,13 @@ void compare(const char* label, const Mesh& a, const Mesh& b, bool with_bound, b
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const std::string path = argc > 1 ? argv[1] : std::string(VISIMP_SHARED_MESHES_DIR) + "/dragon.ply";
+constexpr const char* kUsage =
+    "usage: bench_metrics [MESH]   visimp metro vs CGAL's Hausdorff, and the image error (default: the dragon;\n"
+    "                              without ../shared/meshes the bundled bunny stands in)\n";
+
+int run(const std::vector<std::string>& args) {
+  if (args.size() > 1) throw visimp::UsageError("give at most one mesh (see --help)");
+  const std::string path = !args.empty() ? args[0] : bench::default_meshes("bench_metrics", {{"dragon.ply", "bunny.ply"}})[0];
   const Mesh dragon = visimp::read_mesh(path);
   const Mesh fine = simplified(dragon, 235000), coarse = simplified(fine, 2350);
   std::printf("mesh: %s (%zu faces)\n", path.c_str(), dragon.num_faces());
@@ -103,3 +109,5 @@ int main(int argc, char** argv) {
   compare("full dragon vs its 1% simplification", dragon, simplified(dragon, dragon.num_faces() / 100), false, true);
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::guarded_main("bench_metrics", kUsage, argc, argv, run); }

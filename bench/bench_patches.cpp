@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/content_hash.h"
 #include "visimp/io/mesh_io.h"
@@ -68,8 +69,13 @@ double ns_per_query(const std::vector<Vec3>& directions, F&& query) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const std::string path = argc > 1 ? argv[1] : std::string(VISIMP_SHARED_MESHES_DIR) + "/dragon.ply";
+constexpr const char* kUsage =
+    "usage: bench_patches [MESH]   view reconstruction, patch creation vs meshoptimizer, .vbf sizes (default: the\n"
+    "                              dragon; without ../shared/meshes the bundled bunny stands in)\n";
+
+int run(const std::vector<std::string>& args) {
+  if (args.size() > 1) throw visimp::UsageError("give at most one mesh (see --help)");
+  const std::string path = !args.empty() ? args[0] : bench::default_meshes("bench_patches", {{"dragon.ply", "bunny.ply"}})[0];
   const Mesh mesh = read_mesh(path);
   std::printf("mesh: %s (%zu faces)\n\n", path.c_str(), mesh.num_faces());
   RenderOptions render;
@@ -169,3 +175,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::guarded_main("bench_patches", kUsage, argc, argv, run); }

@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "child_process.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/metrics/surface_distance.h"
@@ -214,30 +215,35 @@ int single_run(const std::string& mode, const std::string& path) {
   return 0;
 }
 
-int main(int argc, char** argv) {
-  if (argc == 4 && std::string(argv[1]) == "--single-run") {
-    const std::string mode = argv[2];
-    if (mode != "qb" && mode != "vg-ones" && mode != "vg") {
-      std::fprintf(stderr, "bench_simplify: --single-run takes qb, vg-ones or vg, not '%s'\n", mode.c_str());
-      return 2;
-    }
-    return single_run(mode, argv[3]);
+constexpr const char* kUsage =
+    "usage: bench_simplify [--vg-overhead] [--cpu-limit S] [MESH ...]\n"
+    "       bench_simplify --single-run qb|vg-ones|vg MESH\n"
+    "visimp QB against meshoptimizer, CGAL and OpenMesh at 10% and 1% (default: dragon, D-sub, fandisk;\n"
+    "without ../shared/meshes the bundled meshes stand in, a note on stderr says which).\n";
+
+int run(const std::vector<std::string>& args) {
+  if (!args.empty() && args[0] == "--single-run") {
+    if (args.size() != 3) throw visimp::UsageError("--single-run takes a mode and a mesh (see --help)");
+    const std::string& mode = args[1];
+    if (mode != "qb" && mode != "vg-ones" && mode != "vg")
+      throw visimp::UsageError("--single-run takes qb, vg-ones or vg, not '" + mode + "'");
+    return single_run(mode, args[2]);
   }
   std::vector<std::string> meshes;
   bool overhead_only = false;
   double cpu_limit = 300;  // per peer run; a run past it is reported as failed
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--vg-overhead") overhead_only = true;
-    else if (std::string(argv[i]) == "--cpu-limit" && i + 1 < argc) cpu_limit = std::atof(argv[++i]);
-    else meshes.push_back(argv[i]);
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--vg-overhead") overhead_only = true;
+    else if (args[i] == "--cpu-limit" && i + 1 < args.size()) cpu_limit = std::atof(args[++i].c_str());
+    else if (!args[i].empty() && args[i][0] == '-') throw visimp::UsageError("unknown option " + args[i] + " (see --help)");
+    else meshes.push_back(args[i]);
   }
-  if (!(cpu_limit >= 1)) {
-    std::fprintf(stderr, "bench_simplify: --cpu-limit takes seconds >= 1\n");
-    return 2;
+  if (!(cpu_limit >= 1)) throw visimp::UsageError("--cpu-limit takes seconds >= 1");
+  if (meshes.empty()) {
+    meshes = bench::default_meshes("bench_simplify", {{"dragon.ply", "bunny.ply"},
+                                                      {"kicad_dsub62_male.ply", "kicad_esp_wroom02.ply"},
+                                                      {"fandisk_cad.ply", "fandisk_cad.ply"}});
   }
-  if (meshes.empty())
-    for (const char* f : {"dragon.ply", "kicad_dsub62_male.ply", "fandisk_cad.ply"})
-      meshes.push_back(std::string(VISIMP_SHARED_MESHES_DIR) + "/" + f);
   const std::vector<std::pair<const char*, std::function<Mesh(const Mesh&, std::size_t)>>> methods = {
       {"visimp-qb", run_visimp}, {"meshopt", run_meshopt}, {"cgal-gh", run_cgal}, {"openmesh", run_openmesh}};
   const std::string tmp = "/tmp/visimp_bench_" + std::to_string(getpid()) + ".ply";
@@ -277,3 +283,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::guarded_main("bench_simplify", kUsage, argc, argv, run); }

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "child_process.h"
 #include "raycast_visibility.h"
 #include "visimp/core/bounding_box.h"
@@ -70,12 +71,12 @@ visimp::Visibility visimp_visibility(const Mesh& mesh, const visimp::CameraSet& 
 
 // visimp against the ray-cast reference and against itself at the reference's sampling.
 int reference_table(std::vector<std::string> meshes) {
-  const std::string shared = VISIMP_SHARED_MESHES_DIR;
   if (meshes.empty()) {
-    for (const char* f : {"kicad_cap_snapin_d40.ply", "kicad_esp_wroom02.ply", "kicad_dsub62_male.ply", "bunny.ply",
-                          "dragon.ply"}) {
-      meshes.push_back(shared + "/" + f);
-    }
+    meshes = bench::default_meshes("bench_visibility", {{"kicad_cap_snapin_d40.ply", ""},
+                                                        {"kicad_esp_wroom02.ply", "kicad_esp_wroom02.ply"},
+                                                        {"kicad_dsub62_male.ply", ""},
+                                                        {"bunny.ply", "bunny.ply"},
+                                                        {"dragon.ply", ""}});
   }
   const visimp::CameraSet cameras = visimp::octahedron_cameras(3), fine = visimp::octahedron_cameras(4);
   std::printf("| mesh | V(M) visimp 258×480² | hidden | s | V(M) visimp 1026×1024² | s | V(M) ray cast 1026×1024² | "
@@ -105,16 +106,21 @@ int reference_table(std::vector<std::string> meshes) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+constexpr const char* kUsage =
+    "usage: bench_visibility [MESH ...]              both backends and the floor (default: dragon, bunny)\n"
+    "       bench_visibility --reference [MESH ...]  against the Embree ray caster (~10 minutes)\n"
+    "Without ../shared/meshes the bundled meshes stand in (a note on stderr says which).\n";
+
+int run(const std::vector<std::string>& args) {
   std::vector<std::string> meshes;
   bool reference = false;
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--reference") reference = true;
-    else meshes.push_back(argv[i]);
+  for (const std::string& a : args) {
+    if (a == "--reference") reference = true;
+    else if (!a.empty() && a[0] == '-') throw visimp::UsageError("unknown option " + a + " (see --help)");
+    else meshes.push_back(a);
   }
   if (reference) return reference_table(meshes);
-  if (meshes.empty())
-    for (const char* f : {"dragon.ply", "bunny.ply"}) meshes.push_back(std::string(VISIMP_SHARED_MESHES_DIR) + "/" + f);
+  if (meshes.empty()) meshes = bench::default_meshes("bench_visibility", {{"dragon.ply", "bunny.ply"}, {"bunny.ply", "bunny.ply"}});
   const visimp::CameraSet cameras = visimp::octahedron_cameras(3);
   const int resolution = 480;
   std::printf("| mesh | faces | faces rendered | method | prepare s | render+tally s (wall) | render only s (wall) | "
@@ -161,3 +167,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::guarded_main("bench_visibility", kUsage, argc, argv, run); }
