@@ -24,11 +24,32 @@ void ArgParser::add(std::vector<OptionSpec> specs) {
   for (auto& s : specs) specs_.push_back(std::move(s));
 }
 
+void ArgParser::add(std::vector<OptionSpec> specs, const std::vector<std::string>& except) {
+  for (auto& s : specs) {
+    if (std::find(except.begin(), except.end(), s.flag) == except.end()) specs_.push_back(std::move(s));
+  }
+}
+
+void ArgParser::allow_output_flag(std::size_t index) {
+  output_index_ = index;
+  specs_.push_back(option_spec("-o", "OUT", output_flag_value_, "the output file (the same as giving OUT)"));
+}
+
+bool ArgParser::given(const std::string& flag) const {
+  return std::find(given_.begin(), given_.end(), flag) != given_.end();
+}
+
+std::string version_line() { return std::string("visimp ") + VISIMP_VERSION; }
+
 bool ArgParser::parse(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--help" || a == "-h") {
       std::cout << help();
+      return false;
+    }
+    if (a == "--version") {
+      std::cout << version_line() << "\n";
       return false;
     }
     const bool long_flag = a.size() > 2 && a.compare(0, 2, "--") == 0;
@@ -40,6 +61,7 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
       for (const auto& s : specs_)
         if (s.flag == flag) spec = &s;
       if (!spec) throw UsageError("unknown option " + flag + " (see --help)");
+      given_.push_back(flag);
       if (spec->value_name.empty()) {
         if (eq != std::string::npos) throw UsageError(flag + " takes no value");
         spec->set("");
@@ -56,6 +78,12 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
     } else {
       positionals_.push_back(a);  // includes "-" (stdin/stdout)
     }
+  }
+  if (output_index_ && given("-o")) {
+    if (positionals_.size() != *output_index_) {
+      throw UsageError("give OUT either as an argument or with -o, once (usage: " + usage_ + ")");
+    }
+    positionals_.push_back(output_flag_value_);
   }
   if (positionals_.size() < min_positionals_ || positionals_.size() > max_positionals_)
     throw UsageError("expected " + std::to_string(min_positionals_) +
@@ -78,8 +106,9 @@ std::string ArgParser::help() const {
     if (!spec.value_name.empty() && !spec.default_text.empty()) s << " [default: " << spec.default_text << "]";
     s << "\n";
   }
-  s << "  --help                      show this text\n\n"
-       "\"-\" as a file means standard input/output (give --format).\n"
+  s << "  --help                      show this text\n"
+       "  --version                   print visimp's version\n\n"
+       "\"-\" as a file means standard input/output (read: the content tells the format; written: as read, or --format).\n"
        "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
   return s.str();
 }

@@ -24,6 +24,13 @@ class ArgParser {
   ArgParser(std::string usage, std::string description, std::size_t min_positionals, std::size_t max_positionals);
   void add(OptionSpec spec) { specs_.push_back(std::move(spec)); }
   void add(std::vector<OptionSpec> specs);
+  /// The same, leaving out the flags that do not apply to this command (its --help must
+  /// list only what it uses).
+  void add(std::vector<OptionSpec> specs, const std::vector<std::string>& except);
+  /// The positional OUT at `index` may also be given as -o OUT (the same everywhere).
+  void allow_output_flag(std::size_t index);
+  /// Whether the flag appeared on the command line (to tell "--ratio 0" from no --ratio).
+  bool given(const std::string& flag) const;
   /// Parses args (after the command name). Returns false when --help was printed.
   /// Throws UsageError for unknown flags, missing values or a wrong number of positionals.
   bool parse(const std::vector<std::string>& args);
@@ -35,7 +42,13 @@ class ArgParser {
   std::size_t min_positionals_, max_positionals_;
   std::vector<OptionSpec> specs_;
   std::vector<std::string> positionals_;
+  std::vector<std::string> given_;
+  std::optional<std::size_t> output_index_;  // allow_output_flag
+  std::string output_flag_value_;
 };
+
+/// "visimp 0.1.0".
+std::string version_line();
 
 /// Options every command that reads or writes meshes shares.
 struct StreamOptions {

@@ -13,6 +13,7 @@ int run_convert(const Args& args) {
                    "--*format options). Polygons are fan-triangulated; see docs/formats.md for\n"
                    "what each format keeps.",
                    2);
+  parser.allow_output_flag(1);
   parser.add(describe_options(stream, true));
   if (!parser.parse(args)) return 0;
   const std::string& in = parser.positionals()[0];

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "backends.h"
 #include "cli.h"
@@ -42,6 +43,7 @@ int run_simplify(const Args& args) {
       "read from IN's face quality (--weights-from-quality). --targets/--levels write OUT_<faces>.ext\n"
       "for every level from one collapse run. Non-manifold and misoriented parts are kept, locked.",
       2);
+  parser.allow_output_flag(1);
   parser.add(describe_options(options));
   parser.add(option_spec("--method", "M", method, "qb (plain quadrics) or vg (visibility-guided)"));
   parser.add(option_spec("--targets", "N,N,..", targets_text, "face counts of the levels to write (one run)"));
@@ -57,6 +59,11 @@ int run_simplify(const Args& args) {
   parser.add(describe_options(visibility_options));
   parser.add(describe_options(stream, true));
   if (!parser.parse(args)) return 0;
+  // 0 is the library's "unset"; typed by a user it is a mistake, and so are both at once.
+  if (parser.given("--ratio") && !(options.target_ratio > 0 && options.target_ratio <= 1))
+    throw UsageError("--ratio must be in (0, 1], got " + (std::ostringstream() << options.target_ratio).str());
+  if (parser.given("--target") && options.target_faces == 0) throw UsageError("--target must be at least 1 face");
+  if (parser.given("--target") && parser.given("--ratio")) throw UsageError("give --target or --ratio, not both");
   if (method != "qb" && method != "vg") throw UsageError("--method must be qb or vg, got '" + method + "'");
   options.method = method == "vg" ? SimplifyMethod::vg : SimplifyMethod::qb;
   const bool many = !targets_text.empty() || levels > 0;

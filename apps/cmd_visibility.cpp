@@ -80,6 +80,7 @@ int run_visibility(const Args& args) {
       "face and vertex quality. With --camera-range and --tally, computes one slice of the cameras for\n"
       "'visimp visibility-merge' instead (OUT is then optional).",
       1, 2);
+  parser.allow_output_flag(1);
   parser.add(describe_options(sampling));
   parser.add(describe_options(options));
   parser.add(option_spec("--png", "FILE", png, "also write a picture of V (the paper's colour scale) from a 3/4 view"));
@@ -173,6 +174,7 @@ int run_orient(const Args& args) {
                    "(visibility from both sides of every face). Faces seen from both sides are left as\n"
                    "they are; faces no camera sees follow their surface (outward when it is closed).",
                    2, 2);
+  parser.allow_output_flag(1);
   parser.add(describe_options(sampling));
   parser.add(describe_options(options));
   parser.add(option_spec("--both-sides", "T", orient.both_sides_threshold,
@@ -283,7 +285,7 @@ int run_visibility_study(const Args& args) {
                    "(octahedron levels 0..4 against level 5): the area-weighted mean |V - V_ref| and the\n"
                    "seconds each took - Fig. 3 of Zhang & Turk 2002. CSV on stdout unless --json.",
                    1);
-  parser.add(describe_options(sampling));
+  parser.add(describe_options(sampling), {"--cameras"});  // the study picks its camera sets itself (--max-level)
   parser.add(describe_options(options));
   parser.add(option_spec("--max-level", "K", max_level, "reference octahedron level, 1..5"));
   parser.add(option_spec("--csv", "FILE", csv_path, "also write the table as CSV"));

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <new>
 
+#include "cli.h"
 #include "commands.h"
 #include "visimp/core/errors.h"
 #include "visimp/io/interrupt_cleanup.h"
@@ -26,7 +27,7 @@ constexpr const char* kUsage =
     "  imgerr A B                 image RMS error over 20 flat-shaded views (Zhang & Turk eq. 5.11)\n"
     "  patches build|query|study  patch bitfields and view reconstruction from the same sampling\n"
     "\n"
-    "'visimp COMMAND --help' describes each command.\n"
+    "'visimp COMMAND --help' describes each command; 'visimp --version' prints the version.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
 
 }  // namespace
@@ -43,6 +44,10 @@ int main(int argc, char** argv) {
   try {
     if (command == "--help" || command == "-h" || command == "help") {
       std::cout << kUsage;
+      return kExitSuccess;
+    }
+    if (command == "--version") {
+      std::cout << app::version_line() << "\n";
       return kExitSuccess;
     }
     if (command == "simplify") return app::run_simplify(args);

@@ -127,6 +127,34 @@ TEST_F(App, TheContentDecidesWhenTheExtensionIsMissingOrWrong) {
   EXPECT_NE(piped.out.find("\nf "), std::string::npos);
 }
 
+TEST_F(App, OneCommandLineGrammarEverywhere) {
+  for (const char* cmd : {"--version", "simplify --version", "compare --version"}) {
+    const AppRun r = run(cmd, dir);
+    EXPECT_EQ(r.code, 0) << cmd;
+    EXPECT_EQ(r.out.rfind("visimp ", 0), 0u) << r.out;
+  }
+  const std::string out = dir + "/o.ply";
+  AppRun r = run("simplify " + bunny + " " + out + " --ratio 0", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--ratio must be in (0, 1]"), std::string::npos) << r.err;
+  r = run("simplify " + bunny + " " + out + " --ratio 0.5 --target 100", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("not both"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // -o OUT wherever OUT is positional; both at once is a usage error.
+  for (const std::string& cmd : {"simplify " + bunny + " -o " + out + " --ratio 0.5", "convert " + bunny + " -o " + out,
+                                 "visibility " + bunny + " -o " + out + " --cameras 6 --resolution 64",
+                                 "orient " + bunny + " -o " + out + " --cameras 6 --resolution 64"}) {
+    std::filesystem::remove(out);
+    EXPECT_EQ(run(cmd, dir).code, 0) << cmd;
+    EXPECT_TRUE(std::filesystem::exists(out)) << cmd;
+  }
+  EXPECT_EQ(run("convert " + bunny + " " + out + " -o " + out, dir).code, 2);
+  // An option a command would ignore is not offered (nor accepted).
+  EXPECT_EQ(run("visibility-study --help", dir).out.find("--cameras"), std::string::npos);
+  EXPECT_EQ(run("visibility-study " + bunny + " --cameras 18", dir).code, 2);
+}
+
 TEST_F(App, NothingToSimplifyExitsOne) {
   const std::string empty = dir + "/vertices_only.ply";
   Mesh m;
