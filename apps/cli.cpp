@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -41,7 +42,17 @@ bool ArgParser::given(const std::string& flag) const {
 
 std::string version_line() { return std::string("visimp ") + VISIMP_VERSION; }
 
+std::string describe_option_error(const OptionError& e) {
+  const auto field = reinterpret_cast<std::uintptr_t>(e.field());
+  for (const auto& [target, flag] : ArgParser::bound_flags_) {
+    if (field != 0 && target == field) return flag + " " + e.problem();
+  }
+  return e.what();
+}
+
 bool ArgParser::parse(const std::vector<std::string>& args) {
+  bound_flags_.clear();
+  for (const OptionSpec& spec : specs_) bound_flags_.emplace_back(reinterpret_cast<std::uintptr_t>(spec.target), spec.flag);
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--help" || a == "-h") {

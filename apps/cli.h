@@ -3,10 +3,13 @@
 // and --format, and a progress bar shown only when stderr is a terminal.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "visimp/core/errors.h"
 #include "visimp/core/mesh.h"
 #include "visimp/core/option_table.h"
 #include "visimp/io/mesh_io.h"
@@ -31,6 +34,9 @@ class ArgParser {
   void allow_output_flag(std::size_t index);
   /// Whether the flag appeared on the command line (to tell "--ratio 0" from no --ratio).
   bool given(const std::string& flag) const;
+  /// Flag of each bound field of the last parse, kept past the parser's life: main reports
+  /// errors after the command's locals are gone. (Addresses as integers, only compared.)
+  static inline std::vector<std::pair<std::uintptr_t, std::string>> bound_flags_;
   /// Parses args (after the command name). Returns false when --help was printed.
   /// Throws UsageError for unknown flags, missing values or a wrong number of positionals.
   bool parse(const std::vector<std::string>& args);
@@ -46,6 +52,10 @@ class ArgParser {
   std::optional<std::size_t> output_index_;  // allow_output_flag
   std::string output_flag_value_;
 };
+
+/// The library's complaint about a field in the terms of the last command line parsed:
+/// "--ratio must be ..." for a field a flag was bound to, the library's own words otherwise.
+std::string describe_option_error(const OptionError& e);
 
 /// "visimp 0.1.0".
 std::string version_line();

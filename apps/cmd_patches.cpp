@@ -90,6 +90,8 @@ int run_build(const Args& args) {
   for (const std::string& written : {out, patch_ply, patch_png, visibility_out}) {
     if (!written.empty() && written == in) throw UsageError(written + " is the input; choose another output name");
   }
+  if (!per_face && patches.count == 0 && !(patches.max_diagonal > 0))
+    throw UsageError("give --patches N or --max-patch-diagonal D (or --per-face)");
   if (!per_face) check_options(patches);
   if (!visibility_out.empty() && !transparent_path.empty()) {
     throw UsageError("--visibility treats every face as opaque; it cannot be combined with --transparent-faces");

@@ -69,6 +69,8 @@ int run_simplify(const Args& args) {
   const bool many = !targets_text.empty() || levels > 0;
   if (!targets_text.empty() && levels > 0) throw UsageError("give --targets or --levels, not both");
   if (levels > 64) throw UsageError("--levels must be in 1..64");
+  if (!many && !parser.given("--target") && !parser.given("--ratio") && !parser.given("--max-error"))
+    throw UsageError("give --target N, --ratio R, --max-error E, --targets N,N,.. or --levels K");
   if (!many) check_options(options);
   check_options(visibility_options);
   const std::string& in = parser.positionals()[0];

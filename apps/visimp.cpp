@@ -11,6 +11,14 @@
 
 namespace {
 
+// The exit codes of every visimp app (README and --help document them).
+enum ExitCode : int {
+  kExitSuccess = 0,
+  kExitBadInput = 1,  ///< a file could not be read, parsed or written, a mesh is invalid, or a backend cannot run
+  kExitBadUsage = 2,  ///< unknown flag, missing or malformed argument, option out of range
+  kExitInternal = 3,  ///< anything else: a bug in visimp
+};
+
 constexpr const char* kUsage =
     "usage: visimp COMMAND [options]\n"
     "\n"
@@ -62,6 +70,12 @@ int main(int argc, char** argv) {
     if (command == "compare") return app::run_compare(args);
     if (command == "patches") return app::run_patches(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
+  } catch (const OptionError& e) {
+    std::cerr << "visimp " << command << ": error: " << app::describe_option_error(e) << "\n";
+    return kExitBadUsage;
+  } catch (const BackendError& e) {
+    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
+    return kExitBadInput;
   } catch (const UsageError& e) {
     std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
     return kExitBadUsage;

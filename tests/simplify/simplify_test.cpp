@@ -403,5 +403,29 @@ INSTANTIATE_TEST_SUITE_P(Meshes, RealMeshInvariants, ::testing::ValuesIn(test::r
                            return name;
                          });
 
+// Library errors name struct fields and point at the member, so the apps can name their own
+// flag; no command-line flag appears in the library's words.
+TEST(SimplifyOptions, ErrorsNameTheFieldNotAFlag) {
+  SimplifyOptions o;
+  o.target_ratio = 0.5;
+  o.max_normal_change_deg = 200;
+  try {
+    check_options(o);
+    ADD_FAILURE();
+  } catch (const OptionError& e) {
+    EXPECT_EQ(e.field(), &o.max_normal_change_deg);
+    EXPECT_NE(std::string(e.what()).find("SimplifyOptions::max_normal_change_deg"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+  }
+  SimplifyOptions no_target;
+  try {
+    check_options(no_target);
+    ADD_FAILURE();
+  } catch (const OptionError& e) {
+    EXPECT_EQ(e.field(), nullptr);  // several fields: none to point at
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace visimp

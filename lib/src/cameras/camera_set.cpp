@@ -151,7 +151,7 @@ CameraSet camera_set_from_spec(const std::string& spec) {
     for (int level = 0; level <= SphereTessellation::kMaxLevel; ++level) {
       if (spec == std::to_string(octahedron_camera_count(level))) return octahedron_cameras(level);
     }
-    throw UsageError("--cameras " + spec + ": an octahedron set has 6, 18, 66, 258, 1026 or 4098 cameras");
+    throw UsageError("camera set '" + spec + "': an octahedron set has 6, 18, 66, 258, 1026 or 4098 cameras");
   }
   return read_camera_file(spec);
 }

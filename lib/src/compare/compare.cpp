@@ -57,13 +57,14 @@ std::vector<CompareLevel> run_method(const Mesh& input_with_v, SimplifyOptions o
 }  // namespace
 
 void check_options(const CompareOptions& o) {
-  if (o.targets.empty() && (o.levels < 1 || o.levels > 64)) throw UsageError("--levels must be in 1..64");
+  if (o.targets.empty() && (o.levels < 1 || o.levels > 64))
+    throw OptionError(&o.levels, "CompareOptions::levels", "must be in 1..64");
   if (!(o.min_ratio > 0 && o.min_ratio <= o.max_ratio && o.max_ratio < 1)) {
-    throw UsageError("level ratios must satisfy 0 < min <= max < 1");
+    throw OptionError(nullptr, "CompareOptions", "needs 0 < min_ratio <= max_ratio < 1");
   }
   for (std::size_t t : o.targets)
-    if (t < 4) throw UsageError("--targets: every face count must be >= 4");
-  if (o.tie_noise_runs > 100) throw UsageError("--tie-noise must be in 0..100 runs");
+    if (t < 4) throw OptionError(&o.targets, "CompareOptions::targets", "must all be >= 4 faces");
+  if (o.tie_noise_runs > 100) throw OptionError(&o.tie_noise_runs, "CompareOptions::tie_noise_runs", "must be in 0..100 runs");
   check_options(o.visibility);
 }
 

@@ -44,7 +44,7 @@ const char* format_name(Format format) {
 Format format_from_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   const auto format = ext.empty() ? std::nullopt : parse_format(ext.substr(1));
-  if (!format) throw UsageError(path + ": unknown mesh format '" + ext + "' (use .ply, .obj, .off or .stl, or --format)");
+  if (!format) throw UsageError(path + ": unknown mesh format '" + ext + "' (use .ply, .obj, .off or .stl, or name the format)");
   return *format;
 }
 
@@ -180,7 +180,7 @@ void write_mesh(const Mesh& mesh, std::ostream& out, Format format, const WriteO
 
 void write_mesh(const Mesh& mesh, const std::string& path, std::optional<Format> format, const WriteOptions& options) {
   require_valid(mesh, path);
-  if (path == "-" && !format) throw UsageError("writing standard output needs an explicit --format");
+  if (path == "-" && !format) throw UsageError("writing standard output needs an explicit format");
   const Format f = format ? *format : format_from_path(path);
   if (path == "-") {
     write_mesh(mesh, std::cout, f, options);

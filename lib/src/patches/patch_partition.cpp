@@ -96,12 +96,12 @@ std::vector<OptionSpec> describe_options(PatchOptions& options) {
 
 void check_options(const PatchOptions& options) {
   if (!(options.max_diagonal >= 0) || !std::isfinite(options.max_diagonal)) {
-    throw UsageError("--max-patch-diagonal must be a finite number >= 0");
+    throw OptionError(&options.max_diagonal, "PatchOptions::max_diagonal", "must be a finite number >= 0");
   }
   if (options.count == 0 && options.max_diagonal == 0) {
-    throw UsageError("patches need a count (--patches N) or a diagonal limit (--max-patch-diagonal D)");
+    throw OptionError(nullptr, "PatchOptions", "needs a count or a max_diagonal");
   }
-  if (options.count > 0xffffffffu) throw UsageError("--patches must be below 2^32");
+  if (options.count > 0xffffffffu) throw OptionError(&options.count, "PatchOptions::count", "must be below 2^32");
 }
 
 PatchPartition build_patches(const Mesh& mesh, const PatchOptions& options) {

@@ -646,18 +646,19 @@ class CollapseEngine {
 }  // namespace
 
 void check_options(const SimplifyOptions& options) {
-  if (!(options.target_ratio >= 0 && options.target_ratio <= 1))
-    throw UsageError("--ratio must be in (0, 1], got " + std::to_string(options.target_ratio));
-  if (!(options.max_error >= 0)) throw UsageError("--max-error must be >= 0");
-  if (!(options.boundary_weight >= 0) || !std::isfinite(options.boundary_weight))
-    throw UsageError("--boundary-weight must be a finite number >= 0");
-  if (!(options.max_normal_change_deg > 0 && options.max_normal_change_deg <= 180))
-    throw UsageError("--max-normal-change must be in (0, 180] degrees");
-  if (!(options.visibility_exponent > 0) || !std::isfinite(options.visibility_exponent))
-    throw UsageError("--visibility-exponent must be a finite number > 0");
-  const bool has_target = options.target_faces > 0 || options.target_ratio > 0;
-  if (!has_target && std::isinf(options.max_error))
-    throw UsageError("give a target (--target or --ratio) or an error limit (--max-error)");
+  const SimplifyOptions& o = options;
+  if (!(o.target_ratio >= 0 && o.target_ratio <= 1))
+    throw OptionError(&o.target_ratio, "SimplifyOptions::target_ratio", "must be in (0, 1] (0: unset), got " + std::to_string(o.target_ratio));
+  if (!(o.max_error >= 0)) throw OptionError(&o.max_error, "SimplifyOptions::max_error", "must be >= 0");
+  if (!(o.boundary_weight >= 0) || !std::isfinite(o.boundary_weight))
+    throw OptionError(&o.boundary_weight, "SimplifyOptions::boundary_weight", "must be a finite number >= 0");
+  if (!(o.max_normal_change_deg > 0 && o.max_normal_change_deg <= 180))
+    throw OptionError(&o.max_normal_change_deg, "SimplifyOptions::max_normal_change_deg", "must be in (0, 180] degrees");
+  if (!(o.visibility_exponent > 0) || !std::isfinite(o.visibility_exponent))
+    throw OptionError(&o.visibility_exponent, "SimplifyOptions::visibility_exponent", "must be a finite number > 0");
+  const bool has_target = o.target_faces > 0 || o.target_ratio > 0;
+  if (!has_target && std::isinf(o.max_error))
+    throw OptionError(nullptr, "SimplifyOptions", "needs a target (target_faces or target_ratio) or a finite max_error");
 }
 
 namespace {

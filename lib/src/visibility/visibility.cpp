@@ -275,10 +275,11 @@ std::vector<OptionSpec> describe_options(VisibilityOptions& o) {
 }
 
 void check_options(const VisibilityOptions& o) {
-  if (!(o.worst_view_cosine > 0 && o.worst_view_cosine <= 1)) throw UsageError("--worst-view-cosine must be in (0, 1]");
+  if (!(o.worst_view_cosine > 0 && o.worst_view_cosine <= 1))
+    throw OptionError(&o.worst_view_cosine, "VisibilityOptions::worst_view_cosine", "must be in (0, 1]");
   if (!(o.depth_tolerance_pixels >= 0 && o.depth_tolerance_pixels <= 16))
-    throw UsageError("--depth-tolerance must be in [0, 16] pixels");
-  if (o.max_refined_faces == 0) throw UsageError("--max-refined-faces must be positive");
+    throw OptionError(&o.depth_tolerance_pixels, "VisibilityOptions::depth_tolerance_pixels", "must be in [0, 16] pixels");
+  if (o.max_refined_faces == 0) throw OptionError(&o.max_refined_faces, "VisibilityOptions::max_refined_faces", "must be positive");
 }
 
 bool back_faces_always_hidden(const Mesh& mesh) {
@@ -583,7 +584,7 @@ HiddenRemoval drop_hidden_faces(const Mesh& mesh, const std::vector<float>& face
     throw UsageError("dropping hidden faces needs V of every face: got " + std::to_string(face_visibility.size()) +
                      " values for " + std::to_string(mesh.num_faces()) + " faces");
   }
-  if (!(threshold >= 0 && threshold < 1)) throw UsageError("--drop-hidden threshold must be in [0, 1)");
+  if (!(threshold >= 0 && threshold < 1)) throw UsageError("drop_hidden_faces: the threshold must be in [0, 1)");
   HiddenRemoval r;
   std::vector<std::uint8_t> keep(mesh.num_faces(), 0);
   double total_area = 0;

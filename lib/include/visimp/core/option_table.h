@@ -21,6 +21,8 @@ struct OptionSpec {
   /// Non-empty: the value may be left out ("--drop-hidden" means "--drop-hidden 0"); a value
   /// is then taken only as "--flag=V" or when the next argument is a number.
   std::string implicit_value;
+  /// The bound field: an OptionError about it (core/errors.h) is reported with this flag.
+  const void* target = nullptr;
 };
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help);
