@@ -9,7 +9,10 @@ namespace visimp::app {
 
 std::unique_ptr<Renderer> make_renderer(const std::string& backend, const RenderOptions& options) {
   if (backend == "raster") return make_raster_renderer(options);
-  if (backend == "osmesa") return make_osmesa_renderer(options);
+  if (backend == "osmesa") {
+    keep_allocator_memory_for_osmesa();  // the app owns its process
+    return make_osmesa_renderer(options);
+  }
   throw UsageError("--backend " + backend + ": expected raster or osmesa");
 }
 

@@ -137,7 +137,7 @@ int run(const std::vector<std::string>& args) {
       const bench::ChildResult r = bench::run_in_child(6, [&] {
         const visimp::RenderOptions options{resolution, 0};
         auto renderer = std::string(backend) == "raster" ? visimp::make_raster_renderer(options)
-                                                         : visimp::make_osmesa_renderer(options);
+                                                         : (visimp::keep_allocator_memory_for_osmesa(), visimp::make_osmesa_renderer(options));
         double t = bench::wall_seconds();
         const visimp::VisibilityJob job(mesh, resolution, {});
         const double prepare = bench::wall_seconds() - t;

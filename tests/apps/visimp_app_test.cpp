@@ -155,6 +155,17 @@ TEST_F(App, OneCommandLineGrammarEverywhere) {
   EXPECT_EQ(run("visibility-study " + bunny + " --cameras 18", dir).code, 2);
 }
 
+TEST_F(App, AMissingGlContextIsABackendErrorNotACrash) {
+  // Mesa's softpipe has no OpenGL 4.5: the osmesa backend must refuse up front, exit 1.
+  ::setenv("GALLIUM_DRIVER", "softpipe", 1);
+  const AppRun r = run("visibility " + bunny + " " + dir + "/v.ply --backend osmesa --cameras 6", dir);
+  ::unsetenv("GALLIUM_DRIVER");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("OpenGL 4.5"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/v.ply"));
+}
+
 TEST_F(App, NothingToSimplifyExitsOne) {
   const std::string empty = dir + "/vertices_only.ply";
   Mesh m;

@@ -41,6 +41,12 @@ layout(location = 0) out uint face;
 void main() { face = id; }
 )";
 
+constexpr const char* kNoContext =
+    "osmesa: cannot create an OpenGL 4.5 core context (Mesa's llvmpipe needed; use --backend raster)";
+constexpr int kContextAttributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_PROFILE,
+                                      OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5,
+                                      0};
+
 GLuint compile(GLenum type, const char* source) {
   const GLuint shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
@@ -50,7 +56,7 @@ GLuint compile(GLenum type, const char* source) {
   if (!ok) {
     char log[1024] = {};
     glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("osmesa: shader does not compile: ") + log);
+    throw BackendError(std::string("osmesa: shader does not compile: ") + log);
   }
   return shader;
 }
@@ -59,10 +65,8 @@ GLuint compile(GLenum type, const char* source) {
 class GlWorker {
  public:
   GlWorker(const RenderScene& scene, int resolution) : resolution_(resolution), dummy_(4, 0) {
-    const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                              OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
-    context_ = OSMesaCreateContextAttribs(attributes, nullptr);
-    if (context_ == nullptr) throw std::runtime_error("osmesa: cannot create a GL 4.5 core context");
+    context_ = OSMesaCreateContextAttribs(kContextAttributes, nullptr);
+    if (context_ == nullptr) throw BackendError(kNoContext);
     make_current();
 
     const GLuint program = glCreateProgram();
@@ -71,7 +75,7 @@ class GlWorker {
     glLinkProgram(program);
     GLint ok = 0;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) throw std::runtime_error("osmesa: shader program does not link");
+    if (!ok) throw BackendError("osmesa: shader program does not link");
     glUseProgram(program);
     right_ = glGetUniformLocation(program, "right");
     up_ = glGetUniformLocation(program, "up");
@@ -182,13 +186,10 @@ class OsmesaRenderer final : public Renderer {
  public:
   explicit OsmesaRenderer(const RenderOptions& options) : options_(options) {
     check_render_options(options);
-    // llvmpipe allocates and frees large scratch buffers every frame; with glibc's default
-    // thresholds they go back to the kernel and are faulted in again each time.
-    static std::once_flag tuned;
-    std::call_once(tuned, [] {
-      mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
-      mallopt(M_MMAP_THRESHOLD, 512 * 1024 * 1024);
-    });
+    // Fail here, before any work, rather than on the first frame after a long refinement.
+    const OSMesaContext probe = OSMesaCreateContextAttribs(kContextAttributes, nullptr);
+    if (probe == nullptr) throw BackendError(kNoContext);
+    OSMesaDestroyContext(probe);
   }
 
   std::string name() const override { return "osmesa"; }
@@ -215,6 +216,16 @@ class OsmesaRenderer final : public Renderer {
 
 std::unique_ptr<Renderer> make_osmesa_renderer(const RenderOptions& options) {
   return std::make_unique<OsmesaRenderer>(options);
+}
+
+void keep_allocator_memory_for_osmesa() {
+  // llvmpipe allocates and frees large scratch buffers every frame; with glibc's default
+  // thresholds they go back to the kernel and are faulted in again each time.
+  static std::once_flag tuned;
+  std::call_once(tuned, [] {
+    mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+    mallopt(M_MMAP_THRESHOLD, 512 * 1024 * 1024);
+  });
 }
 
 }  // namespace visimp
