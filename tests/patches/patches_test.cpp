@@ -1,6 +1,8 @@
 // Patches, bitfields, their file and view reconstruction on meshes with known answers.
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +12,7 @@
 #include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/cameras/camera_set.h"
+#include "visimp/io/byte_stream.h"
 #include "visimp/core/errors.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/patches/bitfield_file.h"
@@ -24,6 +27,12 @@
 
 namespace visimp {
 namespace {
+
+// These keep references to their inputs: temporaries must not compile.
+static_assert(!std::is_constructible_v<ViewReconstructor, BitfieldSet&&>);
+static_assert(!std::is_constructible_v<BitfieldRecorder, Mesh&&, const RenderScene&, std::vector<std::uint32_t>,
+                                       const PatchPartition&, std::size_t, const BitfieldOptions&>);
+static_assert(!std::is_constructible_v<ByteReader, std::string, std::string&&, std::string>);
 
 Mesh appended(Mesh a, const Mesh& b) {
   const auto offset = static_cast<VertexIndex>(a.positions.size());

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +21,10 @@
 
 namespace visimp {
 namespace {
+
+// A job keeps a reference to its mesh: building one from a temporary must not compile.
+static_assert(std::is_constructible_v<VisibilityJob, const Mesh&, int, const VisibilityOptions&>);
+static_assert(!std::is_constructible_v<VisibilityJob, Mesh&&, int, const VisibilityOptions&>);
 
 Visibility measure(const Mesh& mesh, int resolution = 256, const VisibilityOptions& options = {},
                    const CameraSet& cameras = octahedron_cameras(2), unsigned threads = 2) {

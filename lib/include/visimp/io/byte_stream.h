@@ -39,8 +39,11 @@ class ByteWriter {
 class ByteReader {
  public:
   /// `what` names the kind of file in messages ("tally", "bitfield file").
-  ByteReader(const std::string& path, const std::string& bytes, std::string what)
-      : path_(path), bytes_(bytes), what_(std::move(what)) {}
+  /// Reads `bytes`, kept by reference (they must outlive the reader; a temporary is refused);
+  /// `path` is copied.
+  ByteReader(std::string path, const std::string& bytes, std::string what)
+      : path_(std::move(path)), bytes_(bytes), what_(std::move(what)) {}
+  ByteReader(std::string path, const std::string&& bytes, std::string what) = delete;
   std::uint64_t u64() { return read(8); }
   std::uint32_t u32() { return static_cast<std::uint32_t>(read(4)); }
   double f64() {
@@ -85,7 +88,7 @@ class ByteReader {
     pos_ += static_cast<std::size_t>(n);
     return v;
   }
-  const std::string& path_;
+  std::string path_;
   const std::string& bytes_;
   std::string what_;
   std::size_t pos_ = 0;

@@ -68,9 +68,16 @@ class BitfieldRecorder final : public FrameConsumer {
  public:
   /// `scene`: what the frames show; `scene_face_input[t]`: the input face that its face t is
   /// (part of); `partition` maps input faces to units; `cameras`: rows to hold (the whole
-  /// set, whatever is rendered). Both references must outlive the recorder.
+  /// set, whatever is rendered). `mesh`, `scene` and `partition` are kept by reference and
+  /// must outlive the recorder (temporaries are refused).
   BitfieldRecorder(const Mesh& mesh, const RenderScene& scene, std::vector<std::uint32_t> scene_face_input,
                    const PatchPartition& partition, std::size_t cameras, const BitfieldOptions& options);
+  BitfieldRecorder(const Mesh&&, const RenderScene&, std::vector<std::uint32_t>, const PatchPartition&, std::size_t,
+                   const BitfieldOptions&) = delete;
+  BitfieldRecorder(const Mesh&, const RenderScene&&, std::vector<std::uint32_t>, const PatchPartition&, std::size_t,
+                   const BitfieldOptions&) = delete;
+  BitfieldRecorder(const Mesh&, const RenderScene&, std::vector<std::uint32_t>, const PatchPartition&&, std::size_t,
+                   const BitfieldOptions&) = delete;
 
   void begin(unsigned workers) override;
   void consume(const Frame& frame, std::size_t camera, unsigned worker) override;

@@ -16,7 +16,9 @@ class ViewReconstructor {
  public:
   /// With `precompute_cells`, the joined row of every cell is computed up front (the
   /// ID-bitfield paper's per-hull-face lists): a query is then a lookup.
+  /// Keeps a reference to `set`, which must outlive the reconstructor (a temporary is refused).
   explicit ViewReconstructor(const BitfieldSet& set, bool precompute_cells = false);
+  explicit ViewReconstructor(const BitfieldSet&& set, bool precompute_cells = false) = delete;
 
   const SampleSelector& selector() const { return selector_; }
   std::size_t words_per_row() const { return set_.bits.words_per_row; }

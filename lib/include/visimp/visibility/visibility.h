@@ -94,7 +94,9 @@ struct Visibility {
 class VisibilityJob {
  public:
   /// `resolution` fixes l; the renderer passed to render() must use the same resolution.
+  /// The job keeps a reference to `mesh`, which must outlive it (a temporary is refused).
   VisibilityJob(const Mesh& mesh, int resolution, const VisibilityOptions& options);
+  VisibilityJob(const Mesh&& mesh, int resolution, const VisibilityOptions& options) = delete;
 
   /// Tallies cameras [first, last) of `cameras`. `also`, when given, receives the same
   /// frames (of scene(); see scene_input_faces()).
