@@ -67,7 +67,8 @@ int run_metro(const Args& args) {
   parser.add(option_spec("--edge-samples", "N", options.edge_samples, "edge samples per direction (0: the larger face count)"));
   parser.add(option_spec("--bins", "N", options.histogram_bins, "histogram bins over [0, max]"));
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
-  parser.add(switch_spec("--visible", options.visibility_weighted, "also report A->B weighted by V (A's face quality)"));
+  bool visible = false;
+  parser.add(switch_spec("--visible", visible, "also report A->B weighted by V (A's face quality)"));
   parser.add(option_spec("--density", "D", options.density, "face samples per unit area (replaces --samples)"));
   parser.add(option_spec("--sampling", "MODE", sampling, "random (Monte Carlo) or stratified (one point per cell of a k x k split)"));
   parser.add(option_spec("--bound", "T", bound,
@@ -84,6 +85,11 @@ int run_metro(const Args& args) {
   if (!(options.density >= 0) || !std::isfinite(options.density)) throw UsageError("--density must be a finite number >= 0");
   const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
   const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);
+  if (visible) {
+    if (a.face_quality.size() != a.num_faces())
+      throw InvalidMeshError(path_a + ": --visible needs V as face quality (a 'visimp visibility' output)");
+    options.face_visibility = a.face_quality;
+  }
   const SurfaceDistance d = surface_distance(a, b, options);
   if (!(bound >= 0) || !std::isfinite(bound)) throw UsageError("--bound must be a finite number >= 0");
   std::optional<HausdorffBounds> bounds;
@@ -116,7 +122,7 @@ int run_metro(const Args& args) {
           .field("seconds", bounds->seconds)
           .end_object();
     }
-    if (options.visibility_weighted) {
+    if (visible) {
       json.key("visible_a_to_b").begin_object()
           .field("max", d.visible.max)
           .field("mean", d.visible.mean)
@@ -142,7 +148,7 @@ int run_metro(const Args& args) {
       std::cout << "certified Hausdorff: between " << bounds->lower << " and " << bounds->upper << " ("
                 << bounds->seconds << " s)\n";
     }
-    if (options.visibility_weighted) {
+    if (visible) {
       std::cout << "visible A -> B:     max " << d.visible.max << ", mean " << d.visible.mean << ", RMS " << d.visible.rms
                 << " (weights area x V, visible area " << d.visible.visible_area << ")\n";
     }

@@ -87,9 +87,8 @@ TEST(SurfaceDistance, VisibilityWeightingFollowsV) {
     if (p.x < 2) p.z = -0.5 * (2 - p.x);
   Mesh b = test::grid(4);
   for (Vec3& p : b.positions) p.z += 0.25;
-  a.face_quality.assign(a.num_faces(), 1.0f);
   SurfaceDistanceOptions options;
-  options.visibility_weighted = true;
+  options.face_visibility.assign(a.num_faces(), 1.0f);
   const SurfaceDistance all_visible = surface_distance(a, b, options);
   EXPECT_DOUBLE_EQ(all_visible.visible.rms, all_visible.a_to_b.rms);
   // The visible maximum is over face samples; the plain one also over vertices and edges.
@@ -98,13 +97,15 @@ TEST(SurfaceDistance, VisibilityWeightingFollowsV) {
   for (std::size_t f = 0; f < a.num_faces(); ++f) {
     const Face& face = a.faces[f];
     const double x = (a.positions[face[0]].x + a.positions[face[1]].x + a.positions[face[2]].x) / 3;
-    a.face_quality[f] = x < 2 ? 0.0f : 1.0f;
+    options.face_visibility[f] = x < 2 ? 0.0f : 1.0f;
   }
   const SurfaceDistance half = surface_distance(a, b, options);
   EXPECT_NEAR(half.visible.mean, 0.25, 1e-9);
   EXPECT_NEAR(half.visible.max, 0.25, 1e-9);
   EXPECT_GT(half.a_to_b.max, 0.9);
-  EXPECT_THROW(surface_distance(test::grid(2), b, options), InvalidMeshError);  // no V on A
+  EXPECT_THROW(surface_distance(test::grid(2), b, options), InvalidMeshError);  // not one V per face of A
+  a.face_quality.assign(a.num_faces(), 0.0f);  // quality is not V: it changes nothing
+  EXPECT_DOUBLE_EQ(surface_distance(a, b, options).visible.mean, half.visible.mean);
 }
 
 TEST(SurfaceDistance, AgreesWithCgalHausdorffOnARealPair) {

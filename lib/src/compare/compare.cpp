@@ -129,7 +129,7 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
 
   SurfaceDistanceOptions metro;
   metro.samples = options.metro_samples ? options.metro_samples : std::min<std::size_t>(10 * input.num_faces(), 2'000'000);
-  metro.visibility_weighted = true;
+  metro.face_visibility = r.visibility.face;
   const std::size_t total = r.qb.size() + r.vg.size();
   std::size_t done = 0;
   for (std::vector<CompareLevel>* method : {&r.qb, &r.vg}) {

@@ -279,8 +279,13 @@ VisibleDistance summarize_visible(const SamplePlan& plan, const SampleDistances&
 
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (options.visibility_weighted && a.face_quality.size() != a.num_faces()) {
-    throw InvalidMeshError("visibility-weighted distance needs V of every face of A as face quality");
+  const bool weighted = !options.face_visibility.empty();
+  if (weighted && options.face_visibility.size() != a.num_faces()) {
+    throw InvalidMeshError("SurfaceDistanceOptions::face_visibility has " + std::to_string(options.face_visibility.size()) +
+                           " values for " + std::to_string(a.num_faces()) + " faces of A");
+  }
+  for (const float v : options.face_visibility) {
+    if (!(v >= 0 && v <= 1)) throw InvalidMeshError("SurfaceDistanceOptions::face_visibility holds a value outside [0, 1]");
   }
   std::size_t count = options.samples ? options.samples : 10 * std::max(a.num_faces(), b.num_faces());
   if (options.density > 0) {
@@ -301,7 +306,7 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDist
   r.hausdorff = std::max(r.a_to_b.max, r.b_to_a.max);
   r.rms = w > 0 ? std::sqrt(sq / w) : 0;
   r.diagonal = bounding_box(a).diagonal();
-  if (options.visibility_weighted) r.visible = summarize_visible(on_a, from_a, a.face_quality);
+  if (weighted) r.visible = summarize_visible(on_a, from_a, options.face_visibility);
   if (options.vertex_errors) {
     r.vertex_error.assign(a.num_vertices(), 0.0f);
     r.face_error.assign(a.num_faces(), 0.0f);

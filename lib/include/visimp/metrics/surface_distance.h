@@ -36,8 +36,10 @@ struct SurfaceDistanceOptions {
   std::size_t edge_samples = 0;
   /// Histogram bins over [0, max] of each direction.
   std::size_t histogram_bins = 20;
-  /// Weight A's samples by A's face quality (its visibility V) for the visible_* numbers.
-  bool visibility_weighted = false;
+  /// Non-empty: V per face of A (as SimplifyOptions::face_visibility), and A's samples are
+  /// also summarised weighted by it, in `visible`. Passed explicitly, not read from A's face
+  /// quality: a mesh's quality may mean anything.
+  std::vector<float> face_visibility;
   /// Keep A's per-vertex and per-face distances to B (for error maps).
   bool vertex_errors = false;
 };
@@ -67,7 +69,7 @@ struct SurfaceDistance {
   double hausdorff = 0;   ///< max of both directions
   double rms = 0;         ///< RMS over the samples of both directions, area-weighted
   double diagonal = 0;    ///< bounding-box diagonal of A: divide by it for relative numbers
-  VisibleDistance visible;           ///< when options.visibility_weighted
+  VisibleDistance visible;           ///< when options.face_visibility is given
   std::vector<float> vertex_error;   ///< when options.vertex_errors: per vertex of A, input units
   std::vector<float> face_error;     ///< when options.vertex_errors: per face of A, the largest of its samples
   double seconds = 0;
@@ -75,7 +77,7 @@ struct SurfaceDistance {
 };
 
 /// Throws InvalidMeshError when either mesh has no non-degenerate face, or when
-/// visibility_weighted is asked of an A without face quality.
+/// face_visibility does not have one value per face of A, or a value outside [0, 1].
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options = {});
 
 }  // namespace visimp
