@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "visimp/cameras/camera_set.h"
 #include "visimp/core/option_table.h"
 #include "visimp/render/renderer.h"
 
@@ -16,10 +17,10 @@ std::unique_ptr<Renderer> make_renderer(const std::string& backend, const Render
 
 /// How the camera sphere is sampled: the flags every command that renders visibility shares.
 struct SamplingOptions {
-  std::string cameras = "258";
-  std::size_t resolution = 480;
+  std::string cameras = kDefaultCameraSet;
+  std::size_t resolution = static_cast<std::size_t>(RenderOptions{}.resolution);
   std::string backend = "raster";
-  std::size_t threads = 0;
+  std::size_t threads = RenderOptions{}.threads;
 };
 std::vector<OptionSpec> describe_options(SamplingOptions& o);
 RenderOptions render_options(const SamplingOptions& o);

@@ -35,7 +35,7 @@ int run_compare(const Args& args) {
   SamplingOptions sampling;
   StreamOptions stream;
   std::string directory, targets_text;
-  std::size_t image_resolution = 256, image_supersample = static_cast<std::size_t>(options.image.supersample);
+  std::size_t image_resolution = static_cast<std::size_t>(options.image.resolution), image_supersample = static_cast<std::size_t>(options.image.supersample);
   ArgParser parser(
       "visimp compare IN [-o DIR] [--targets N,N,.. | --levels K] [options]",
       "Simplifies IN with QB and with VG to the same face counts (one collapse run each), measures\n"

@@ -282,8 +282,9 @@ int run_query(const Args& args) {
 int run_study(const Args& args) {
   PatchStudyOptions options;
   SamplingOptions sampling;
-  std::string dir = "patch_study", counts_text = "50,200,1000,2000", timing = "osmesa";
-  std::size_t max_cameras = 1026, pixel_cameras = 0;
+  std::string dir = "patch_study", counts_text, timing = "osmesa";
+  for (const std::size_t n : options.patch_counts) counts_text += (counts_text.empty() ? "" : ",") + std::to_string(n);
+  std::size_t max_cameras = octahedron_camera_count(options.max_level), pixel_cameras = 0;
   bool json_out = false;
   StreamOptions stream;
   ArgParser parser("visimp patches study IN [-o DIR] [--patch-counts N,N,..] [--max-cameras C] [options]",

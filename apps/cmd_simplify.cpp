@@ -119,8 +119,9 @@ int run_simplify(const Args& args) {
   if (!targets_text.empty()) targets = parse_count_list(targets_text, "--targets");
   if (levels > 0) {
     const double low = options.target_faces > 0 ? double(options.target_faces) / double(std::max<std::size_t>(mesh.num_faces(), 1))
-                                                : (options.target_ratio > 0 ? options.target_ratio : 0.02);
-    targets = default_targets(mesh.num_faces(), levels, std::min(low, 0.30), 0.30);
+                                                : (options.target_ratio > 0 ? options.target_ratio : CompareOptions{}.min_ratio);
+    const double high = CompareOptions{}.max_ratio;  // the same levels as visimp compare's
+    targets = default_targets(mesh.num_faces(), levels, std::min(low, high), high);
   }
 
   std::vector<Simplified> results;

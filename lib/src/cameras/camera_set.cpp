@@ -118,6 +118,14 @@ CameraSet dodecahedron_cameras() {
 CameraSet read_camera_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw IoError(path, std::string("cannot open camera list: ") + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw IoError(path, "read error");
+  return parse_camera_list(text.str(), path);
+}
+
+CameraSet parse_camera_list(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   CameraSet set{path, {}};
   std::string line;
   for (std::size_t line_number = 1; std::getline(in, line); ++line_number) {
@@ -137,7 +145,6 @@ CameraSet read_camera_file(const std::string& path) {
     }
     set.directions.push_back(d / length);
   }
-  if (in.bad()) throw IoError(path, "read error");
   if (set.directions.empty()) throw IoError(path, "camera list has no directions");
   return set;
 }

@@ -137,8 +137,9 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
   return sizes;
 }
 
-BitfieldSet read_bitfield_file(const std::string& path) {
-  const std::string bytes = read_file_bytes(path);
+BitfieldSet read_bitfield_file(const std::string& path) { return parse_bitfield_file(read_file_bytes(path), path); }
+
+BitfieldSet parse_bitfield_file(const std::string& bytes, const std::string& path) {
   ByteReader r(path, bytes, "bitfield file");
   r.expect_magic(kMagic, "visimp bitfield file");
   BitfieldSet set;
@@ -175,6 +176,14 @@ BitfieldSet read_bitfield_file(const std::string& path) {
   }
   if (name_length + cameras * 24 + map_bytes + bitfield_bytes != body) {
     throw IoError(path, "the bitfield file's size does not match its header");
+  }
+  // The header's counts are not under the checksum and the sections may be compressed: bound
+  // what they expand to before allocating it (found by fuzz_read_vbf: 11 GB from 300 bytes).
+  // Real files expand about 10-100-fold; 4096-fold plus 64 MiB is far beyond any of them.
+  const std::uint64_t expanded = (set.per_face ? 0 : set.faces * 4) + cameras * ((units + 63) / 64) * 8;
+  if (expanded > 4096 * static_cast<std::uint64_t>(bytes.size()) + (std::uint64_t{64} << 20)) {
+    throw IoError(path, "the header claims " + std::to_string(expanded) + " bytes of data from a " +
+                            std::to_string(bytes.size()) + "-byte file: damaged");
   }
   set.cameras.name = r.text(name_length);
   set.cameras.directions.resize(cameras);

@@ -119,8 +119,9 @@ void VisibilityTally::write(const std::string& path) const {
   file.commit();
 }
 
-VisibilityTally VisibilityTally::read(const std::string& path) {
-  const std::string bytes = read_file_bytes(path);
+VisibilityTally VisibilityTally::read(const std::string& path) { return parse(read_file_bytes(path), path); }
+
+VisibilityTally VisibilityTally::parse(const std::string& bytes, const std::string& path) {
   ByteReader r(path, bytes, "tally");
   r.expect_magic(kMagic, "visimp visibility tally");
   VisibilityTally t;

@@ -247,7 +247,8 @@ class TallyConsumer final : public FrameConsumer {
   // The pixel shows the background, or a face with corner i.
   static std::uint8_t shows_corner(const Face* faces, std::uint32_t id, std::uint32_t i) {
     const Face& f = faces[id != 0 ? id - 1 : 0];
-    return static_cast<std::uint8_t>((id == 0) | (f[0] == i) | (f[1] == i) | (f[2] == i));
+    // int, not bool, operands: all four compared without branches.
+    return static_cast<std::uint8_t>(int{id == 0} | int{f[0] == i} | int{f[1] == i} | int{f[2] == i});
   }
 
   const RenderScene& scene_;

@@ -60,10 +60,14 @@ class SphereTessellation {
 /// Number of cameras of octahedron level k: 4^(k+1) + 2.
 std::size_t octahedron_camera_count(int level);
 CameraSet octahedron_cameras(int level);
+/// The camera set every visibility command uses unless told otherwise: Zhang & Turk's 258.
+inline constexpr const char* kDefaultCameraSet = "258";
 CameraSet dodecahedron_cameras();
 /// Throws IoError naming the file and line for unreadable files, bad numbers, zero-length
 /// or non-finite directions, or an empty list.
 CameraSet read_camera_file(const std::string& path);
+/// The same from text in memory; `path` names it in errors.
+CameraSet parse_camera_list(const std::string& text, const std::string& path);
 /// "258" (a count of an octahedron level), "k3" (a level), "dodecahedron", or a file path.
 /// Throws UsageError for a number that is not an octahedron count or a level out of range.
 CameraSet camera_set_from_spec(const std::string& spec);

@@ -46,6 +46,8 @@ BitfieldFileSizes write_bitfield_file(const BitfieldSet& set, const std::string&
 /// Throws IoError naming the file for a wrong magic or version, truncation, a checksum
 /// mismatch or inconsistent counts.
 BitfieldSet read_bitfield_file(const std::string& path);
+/// The same from bytes in memory; `path` names them in errors.
+BitfieldSet parse_bitfield_file(const std::string& bytes, const std::string& path);
 /// Throws IoError naming `path` when `mesh` is not the mesh the set was made for.
 void check_bitfields_match(const BitfieldSet& set, const Mesh& mesh, const std::string& path);
 

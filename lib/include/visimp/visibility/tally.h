@@ -68,6 +68,8 @@ struct VisibilityTally {
   void write(const std::string& path) const;
   /// Throws IoError naming the file for a wrong magic, truncation or inconsistent sizes.
   static VisibilityTally read(const std::string& path);
+  /// The same from bytes in memory; `path` names them in errors.
+  static VisibilityTally parse(const std::string& bytes, const std::string& path);
 };
 
 /// Quantised camera weight q(w) (see above).
