@@ -52,7 +52,8 @@ std::string describe_option_error(const OptionError& e) {
 
 bool ArgParser::parse(const std::vector<std::string>& args) {
   bound_flags_.clear();
-  for (const OptionSpec& spec : specs_) bound_flags_.emplace_back(reinterpret_cast<std::uintptr_t>(spec.target), spec.flag);
+  for (const OptionSpec& spec : specs_)
+    bound_flags_.emplace_back(reinterpret_cast<std::uintptr_t>(spec.target), spec.flag);
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--help" || a == "-h") {
@@ -99,8 +100,7 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
   if (positionals_.size() < min_positionals_ || positionals_.size() > max_positionals_)
     throw UsageError("expected " + std::to_string(min_positionals_) +
                      (max_positionals_ != min_positionals_ ? ".." + std::to_string(max_positionals_) : "") +
-                     " file argument(s), got " +
-                     std::to_string(positionals_.size()) + " (usage: " + usage_ + ")");
+                     " file argument(s), got " + std::to_string(positionals_.size()) + " (usage: " + usage_ + ")");
   return true;
 }
 
@@ -111,15 +111,18 @@ std::string ArgParser::help() const {
     std::string value = spec.value_name;
     if (!value.empty() && !spec.implicit_value.empty()) value = "[" + value + "]";
     std::string left = "  " + spec.flag + (value.empty() ? "" : " " + value);
-    if (left.size() < 28) left.resize(28, ' ');
-    else left += "  ";
+    if (left.size() < 28)
+      left.resize(28, ' ');
+    else
+      left += "  ";
     s << left << spec.help;
     if (!spec.value_name.empty() && !spec.default_text.empty()) s << " [default: " << spec.default_text << "]";
     s << "\n";
   }
   s << "  --help                      show this text\n"
        "  --version                   print visimp's version\n\n"
-       "\"-\" as a file means standard input/output (read: the content tells the format; written: as read, or --format).\n"
+       "\"-\" as a file means standard input/output (read: the content tells the format; written: as read, or "
+       "--format).\n"
        "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
   return s.str();
 }

@@ -35,17 +35,18 @@ int run_compare(const Args& args) {
   SamplingOptions sampling;
   StreamOptions stream;
   std::string directory, targets_text;
-  std::size_t image_resolution = static_cast<std::size_t>(options.image.resolution), image_supersample = static_cast<std::size_t>(options.image.supersample);
-  ArgParser parser(
-      "visimp compare IN [-o DIR] [--targets N,N,.. | --levels K] [options]",
-      "Simplifies IN with QB and with VG to the same face counts (one collapse run each), measures\n"
-      "every result against IN (Metro-style geometric error, visibility-weighted error, image RMS error\n"
-      "of 20 flat-shaded views) and writes results.csv, results.json, SVG plots, the meshes, PNGs and\n"
-      "report.html to DIR (default: <IN's name>_compare). Prints Zhang & Turk's Table 2 row.",
-      1);
+  std::size_t image_resolution = static_cast<std::size_t>(options.image.resolution),
+              image_supersample = static_cast<std::size_t>(options.image.supersample);
+  ArgParser parser("visimp compare IN [-o DIR] [--targets N,N,.. | --levels K] [options]",
+                   "Simplifies IN with QB and with VG to the same face counts (one collapse run each), measures\n"
+                   "every result against IN (Metro-style geometric error, visibility-weighted error, image RMS error\n"
+                   "of 20 flat-shaded views) and writes results.csv, results.json, SVG plots, the meshes, PNGs and\n"
+                   "report.html to DIR (default: <IN's name>_compare). Prints Zhang & Turk's Table 2 row.",
+                   1);
   parser.add(option_spec("-o", "DIR", directory, "output directory (created if missing)"));
   parser.add(option_spec("--targets", "N,N,..", targets_text, "face counts to compare at"));
-  parser.add(option_spec("--levels", "K", options.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"));
+  parser.add(
+      option_spec("--levels", "K", options.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"));
   parser.add(option_spec("--min-ratio", "R", options.min_ratio, "smallest level as a fraction of IN's faces"));
   parser.add(option_spec("--max-ratio", "R", options.max_ratio, "largest level as a fraction of IN's faces"));
   parser.add(switch_spec("--weights-from-quality", options.visibility_from_quality,
@@ -62,9 +63,10 @@ int run_compare(const Args& args) {
   parser.add(describe_options(options.visibility));
   {  // the levels set the face counts: --target and --ratio would be silently ignored
     std::vector<OptionSpec> simplify_flags = describe_options(options.simplify);
-    simplify_flags.erase(std::remove_if(simplify_flags.begin(), simplify_flags.end(),
-                                        [](const OptionSpec& o) { return o.flag == "--target" || o.flag == "--ratio"; }),
-                         simplify_flags.end());
+    simplify_flags.erase(
+        std::remove_if(simplify_flags.begin(), simplify_flags.end(),
+                       [](const OptionSpec& o) { return o.flag == "--target" || o.flag == "--ratio"; }),
+        simplify_flags.end());
     parser.add(std::move(simplify_flags));
   }
   parser.add(option_spec("--format", "F", stream.format, "format of IN when it is '-': ply, obj, off or stl"));
@@ -117,13 +119,15 @@ int run_compare(const Args& args) {
         .field("unreached_levels", unreached);  // empty when both methods reached every level
     if (!result.tie_noise_percent.empty()) {
       const TieNoiseCounts v = count_tie_noise_verdicts(result);
-      json.key("levels_vs_tie_noise").begin_object()
+      json.key("levels_vs_tie_noise")
+          .begin_object()
           .field("above", v.above)
           .field("inside", v.inside)
           .field("below", v.below)
           .end_object();
     }
-    json.key("seconds").begin_object()
+    json.key("seconds")
+        .begin_object()
         .field("visibility", result.seconds_visibility)
         .field("qb", result.seconds_qb)
         .field("vg", result.seconds_vg)
@@ -137,12 +141,11 @@ int run_compare(const Args& args) {
     std::cout << table2_row(result, name);
     if (!result.tie_noise_percent.empty()) {
       const TieNoiseCounts v = count_tie_noise_verdicts(result);
-      std::cout << "VG's lead against " << options.tie_noise_runs << " near-tie run(s), per level: above their spread at "
-                << v.above << ", inside at " << v.inside << ", below at " << v.below << " of " << result.targets.size()
-                << "\n";
+      std::cout << "VG's lead against " << options.tie_noise_runs
+                << " near-tie run(s), per level: above their spread at " << v.above << ", inside at " << v.inside
+                << ", below at " << v.below << " of " << result.targets.size() << "\n";
     }
-    std::cout << "report: " << (std::filesystem::path(directory) / "report.html").string()
-              << "\n";
+    std::cout << "report: " << (std::filesystem::path(directory) / "report.html").string() << "\n";
   }
   return 0;
 }

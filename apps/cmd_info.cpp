@@ -57,7 +57,8 @@ int run_info(const Args& args) {
         .field("has_vertex_quality", mesh.has_vertex_quality())
         .field("has_face_quality", mesh.has_face_quality());
     if (v) {
-      json.key("visibility").begin_object()
+      json.key("visibility")
+          .begin_object()
           .field("cameras", v->stats.cameras)
           .field("resolution", static_cast<std::int64_t>(v->stats.resolution))
           .field("mesh_visibility", v->mesh)
@@ -84,10 +85,11 @@ int run_info(const Args& args) {
             << "  closed 2-manifold     " << (s.closed_manifold() ? "yes" : "no") << "\n"
             << "  area                  " << s.area << "\n"
             << "  bbox                  [" << s.bbox.min.x << ", " << s.bbox.min.y << ", " << s.bbox.min.z << "] - ["
-            << s.bbox.max.x << ", " << s.bbox.max.y << ", " << s.bbox.max.z << "], diagonal " << s.bbox.diagonal() << "\n"
+            << s.bbox.max.x << ", " << s.bbox.max.y << ", " << s.bbox.max.z << "], diagonal " << s.bbox.diagonal()
+            << "\n"
             << "  quality               " << (mesh.has_vertex_quality() ? "vertex " : "")
-            << (mesh.has_face_quality() ? "face" : "") << (mesh.has_vertex_quality() || mesh.has_face_quality() ? "" : "none")
-            << "\n";
+            << (mesh.has_face_quality() ? "face" : "")
+            << (mesh.has_vertex_quality() || mesh.has_face_quality() ? "" : "none") << "\n";
   if (v) {
     std::cout << "  seen from behind      " << v->stats.seen_from_behind << " faces (V(M) " << v->mesh << ", "
               << v->stats.cameras << " cameras at " << v->stats.resolution << "²; 'visimp orient' rewinds them)\n";

@@ -18,7 +18,8 @@ namespace visimp::app {
 namespace {
 
 void write_directed(JsonWriter& json, const char* name, const DirectedDistance& d, double diagonal) {
-  json.key(name).begin_object()
+  json.key(name)
+      .begin_object()
       .field("max", d.max)
       .field("mean", d.mean)
       .field("rms", d.rms)
@@ -43,7 +44,8 @@ void print_directed(std::ostream& out, const char* title, const DirectedDistance
   out << line;
   out << "  histogram (share of the area per distance bin):\n";
   for (std::size_t i = 0; i < d.histogram.size(); ++i) {
-    const double lo = d.max * double(i) / double(d.histogram.size()), hi = d.max * double(i + 1) / double(d.histogram.size());
+    const double lo = d.max * double(i) / double(d.histogram.size()),
+                 hi = d.max * double(i + 1) / double(d.histogram.size());
     std::snprintf(line, sizeof line, "    %11.5g .. %-11.5g %6.2f%%\n", lo, hi, 100.0 * d.histogram[i]);
     out << line;
   }
@@ -63,26 +65,34 @@ int run_metro(const Args& args) {
                    "by the bounding-box diagonal of A. With --visible, A's face quality is its visibility V\n"
                    "and A's samples are also weighted by it.",
                    2);
-  parser.add(option_spec("--samples", "N", options.samples, "face samples per direction (0: 10 x the larger face count)"));
-  parser.add(option_spec("--edge-samples", "N", options.edge_samples, "edge samples per direction (0: the larger face count)"));
+  parser.add(
+      option_spec("--samples", "N", options.samples, "face samples per direction (0: 10 x the larger face count)"));
+  parser.add(option_spec("--edge-samples", "N", options.edge_samples,
+                         "edge samples per direction (0: the larger face count)"));
   parser.add(option_spec("--bins", "N", options.histogram_bins, "histogram bins over [0, max]"));
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
   bool visible = false;
   parser.add(switch_spec("--visible", visible, "also report A->B weighted by V (A's face quality)"));
   parser.add(option_spec("--density", "D", options.density, "face samples per unit area (replaces --samples)"));
-  parser.add(option_spec("--sampling", "MODE", sampling, "random (Monte Carlo) or stratified (one point per cell of a k x k split)"));
+  parser.add(option_spec("--sampling", "MODE", sampling,
+                         "random (Monte Carlo) or stratified (one point per cell of a k x k split)"));
   parser.add(option_spec("--bound", "T", bound,
                          "also certify the Hausdorff distance within T x the diagonal of A (CGAL bounded-error)"));
-  parser.add(option_spec("--error-ply", "FILE", error_ply, "write A with each vertex's distance to B as vertex quality"));
-  parser.add(option_spec("--error-png", "FILE", error_png, "picture of A coloured by its faces' distance to B (blue 0 .. red max)"));
+  parser.add(
+      option_spec("--error-ply", "FILE", error_ply, "write A with each vertex's distance to B as vertex quality"));
+  parser.add(option_spec("--error-png", "FILE", error_png,
+                         "picture of A coloured by its faces' distance to B (blue 0 .. red max)"));
   parser.add(describe_options(stream, false));
   if (!parser.parse(args)) return 0;
   if (options.histogram_bins == 0 || options.histogram_bins > 10000) throw UsageError("--bins must be in 1..10000");
   options.threads = static_cast<int>(std::min<std::size_t>(threads, 1024));
   options.vertex_errors = !error_ply.empty() || !error_png.empty();
-  if (sampling == "stratified") options.sampling = FaceSampling::stratified;
-  else if (sampling != "random") throw UsageError("--sampling " + sampling + ": expected random or stratified");
-  if (!(options.density >= 0) || !std::isfinite(options.density)) throw UsageError("--density must be a finite number >= 0");
+  if (sampling == "stratified")
+    options.sampling = FaceSampling::stratified;
+  else if (sampling != "random")
+    throw UsageError("--sampling " + sampling + ": expected random or stratified");
+  if (!(options.density >= 0) || !std::isfinite(options.density))
+    throw UsageError("--density must be a finite number >= 0");
   const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
   const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);
   if (visible) {
@@ -114,7 +124,8 @@ int run_metro(const Args& args) {
     json.field("hausdorff", d.hausdorff).field("hausdorff_relative", d.hausdorff / d.diagonal);
     json.field("rms", d.rms).field("rms_relative", d.rms / d.diagonal);
     if (bounds) {
-      json.key("hausdorff_bounds").begin_object()
+      json.key("hausdorff_bounds")
+          .begin_object()
           .field("lower", bounds->lower)
           .field("upper", bounds->upper)
           .field("lower_relative", bounds->lower / d.diagonal)
@@ -123,14 +134,16 @@ int run_metro(const Args& args) {
           .end_object();
     }
     if (visible) {
-      json.key("visible_a_to_b").begin_object()
+      json.key("visible_a_to_b")
+          .begin_object()
           .field("max", d.visible.max)
           .field("mean", d.visible.mean)
           .field("rms", d.visible.rms)
           .field("visible_area", d.visible.visible_area)
           .end_object();
     }
-    json.key("seconds").begin_object()
+    json.key("seconds")
+        .begin_object()
         .field("sampling", d.seconds_sampling)
         .field("index", d.seconds_index)
         .field("queries", d.seconds_queries)
@@ -149,8 +162,8 @@ int run_metro(const Args& args) {
                 << bounds->seconds << " s)\n";
     }
     if (visible) {
-      std::cout << "visible A -> B:     max " << d.visible.max << ", mean " << d.visible.mean << ", RMS " << d.visible.rms
-                << " (weights area x V, visible area " << d.visible.visible_area << ")\n";
+      std::cout << "visible A -> B:     max " << d.visible.max << ", mean " << d.visible.mean << ", RMS "
+                << d.visible.rms << " (weights area x V, visible area " << d.visible.visible_area << ")\n";
     }
     std::cout << "seconds: sampling " << d.seconds_sampling << ", index " << d.seconds_index << ", queries "
               << d.seconds_queries << ", total " << d.seconds << "\n";

@@ -111,19 +111,7 @@ int run_build(const Args& args) {
   const PatchPartition partition = per_face ? faces_as_patches(mesh) : build_patches(mesh, patches);
   const double patch_seconds = seconds_since(t);
 
-  BitfieldSet set;
-  set.mesh_hash = hash_mesh(mesh);
-  set.faces = mesh.num_faces();
-  set.per_face = per_face;
-  set.neighbour_fill = neighbour_fill;
-  set.depth_test = depth_test;
-  for (std::uint8_t flag : options.transparent) set.transparent_faces += flag;
-  set.resolution = static_cast<std::uint32_t>(renderer->resolution());
-  const BoundingBox box = bounding_box(mesh);
-  set.center = box.center();
-  set.radius = view_radius(box);
-  set.cameras = cameras;
-  if (!per_face) set.face_patch = partition.face_patch;
+  BitfieldSet set = make_bitfield_set(mesh, partition, per_face, cameras, renderer->resolution(), options);
 
   t = Clock::now();
   std::optional<Visibility> visibility;
@@ -168,7 +156,9 @@ int run_build(const Args& args) {
   const double mean_seen = static_cast<double>(set_bits) / static_cast<double>(cameras.size());
   if (stream.json) {
     JsonWriter json(std::cout);
-    json.begin_object().field("command", "patches build").field("input", in)
+    json.begin_object()
+        .field("command", "patches build")
+        .field("input", in)
         .field("input_format", input_format_name(stream))
         .field("format_detected", input_format_detected(stream))
         .field("output", out);
@@ -176,23 +166,33 @@ int run_build(const Args& args) {
     json.field("units", partition.patch_count()).field("components", partition.components);
     json.field("camera_set", cameras.name).field("cameras", cameras.size());
     json.field("resolution", static_cast<std::int64_t>(set.resolution)).field("backend", renderer->name());
-    json.field("neighbour_fill", neighbour_fill).field("depth_test", depth_test).field("transparent_faces", set.transparent_faces);
+    json.field("neighbour_fill", neighbour_fill)
+        .field("depth_test", depth_test)
+        .field("transparent_faces", set.transparent_faces);
     json.field("mean_units_seen_per_camera", mean_seen);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
-    json.key("bytes").begin_object()
-        .field("total", sizes.total).field("header", sizes.header).field("directions", sizes.directions)
-        .field("patch_map", sizes.patch_map).field("bitfields", sizes.bitfields)
-        .field("bitfields_uncompressed", sizes.bitfields_uncompressed).end_object();
-    json.key("seconds").begin_object()
-        .field("read", read_seconds).field("patches", patch_seconds).field("sampling", sampling_seconds)
-        .field("write", write_seconds).end_object();
+    json.key("bytes")
+        .begin_object()
+        .field("total", sizes.total)
+        .field("header", sizes.header)
+        .field("directions", sizes.directions)
+        .field("patch_map", sizes.patch_map)
+        .field("bitfields", sizes.bitfields)
+        .field("bitfields_uncompressed", sizes.bitfields_uncompressed)
+        .end_object();
+    json.key("seconds")
+        .begin_object()
+        .field("read", read_seconds)
+        .field("patches", patch_seconds)
+        .field("sampling", sampling_seconds)
+        .field("write", write_seconds)
+        .end_object();
     json.end_object();
     std::cout << '\n';
   } else {
-    std::cout << out << ": " << partition.patch_count() << (per_face ? " faces" : " patches") << " x "
-              << cameras.size() << " cameras (" << cameras.name << ", " << set.resolution << " px), "
-              << sizes.total << " bytes (bitfields " << sizes.bitfields << " of " << sizes.bitfields_uncompressed
-              << " uncompressed)\n"
+    std::cout << out << ": " << partition.patch_count() << (per_face ? " faces" : " patches") << " x " << cameras.size()
+              << " cameras (" << cameras.name << ", " << set.resolution << " px), " << sizes.total
+              << " bytes (bitfields " << sizes.bitfields << " of " << sizes.bitfields_uncompressed << " uncompressed)\n"
               << "  mean units seen per camera: " << mean_seen << " of " << partition.patch_count() << "\n"
               << "  seconds: patches " << patch_seconds << ", sampling " << sampling_seconds << "\n";
   }
@@ -237,7 +237,8 @@ int run_query(const Args& args) {
   const double query_seconds = seconds_since(t);
   const std::vector<std::uint32_t> drawn = reconstructor.faces(direction);
   const SampleChoice samples = reconstructor.selector().select(direction);
-  if (inside) std::cerr << "visimp patches query: warning: the viewpoint is inside the sampling sphere; faces may be missed\n";
+  if (inside)
+    std::cerr << "visimp patches query: warning: the viewpoint is inside the sampling sphere; faces may be missed\n";
 
   if (!out.empty()) {
     const Mesh mesh = read_input(mesh_path, stream);
@@ -247,7 +248,8 @@ int run_query(const Args& args) {
     write_output(keep_faces(mesh, keep), out, mesh_path, stream);
   }
   std::ostream& report = out == "-" ? std::cerr : std::cout;
-  const double culled = 1 - static_cast<double>(drawn.size()) / static_cast<double>(std::max<std::uint64_t>(1, set.faces));
+  const double culled =
+      1 - static_cast<double>(drawn.size()) / static_cast<double>(std::max<std::uint64_t>(1, set.faces));
   if (json_out) {
     JsonWriter json(report);
     json.begin_object().field("command", "patches query").field("input", path);
@@ -273,8 +275,8 @@ int run_query(const Args& args) {
     // One index per line: easy to pipe.
     for (std::uint32_t u : faces ? drawn : units) report << u << '\n';
   } else {
-    report << out << ": " << drawn.size() << " of " << set.faces << " faces (" << std::setprecision(4)
-           << 100 * culled << "% culled) from " << samples.count << " samples\n";
+    report << out << ": " << drawn.size() << " of " << set.faces << " faces (" << std::setprecision(4) << 100 * culled
+           << "% culled) from " << samples.count << " samples\n";
   }
   return 0;
 }
@@ -297,9 +299,11 @@ int run_study(const Args& args) {
   parser.add(option_spec("-o", "DIR", dir, "output directory"));
   parser.add(option_spec("--patch-counts", "N,N,..", counts_text, "patch counts to compare"));
   parser.add(option_spec("--max-cameras", "C", max_cameras, "finest octahedron set sampled: 6|18|66|258|1026|4098"));
-  parser.add(option_spec("--pixel-cameras", "C", pixel_cameras, "camera set of the pixel and timing checks (0 = the finest)"));
+  parser.add(
+      option_spec("--pixel-cameras", "C", pixel_cameras, "camera set of the pixel and timing checks (0 = the finest)"));
   parser.add(option_spec("--viewpoints", "N", options.viewpoints, "random viewpoints per culling rate"));
-  parser.add(option_spec("--pixel-views", "N", options.pixel_views, "random viewpoints rendered full and reconstructed"));
+  parser.add(
+      option_spec("--pixel-views", "N", options.pixel_views, "random viewpoints rendered full and reconstructed"));
   parser.add(option_spec("--timing-frames", "N", options.timing_frames, "frames timed per viewpoint and mesh"));
   parser.add(option_spec("--timing-backend", "NAME", timing, "osmesa, raster, or none (no frame times)"));
   parser.add(switch_spec("--neighbour-fill", options.neighbour_fill, "fill front-facing neighbours of seen faces"));
@@ -356,15 +360,15 @@ int run_study(const Args& args) {
   }
   std::cout << "\nreconstruction from " << options.pixel_views << " random viewpoints\n"
             << std::setw(26) << "units" << std::setw(9) << "cameras" << std::setw(10) << "drawn" << std::setw(12)
-            << "diff px" << std::setw(10) << "depth px" << std::setw(10) << "worst" << std::setw(8) << "views" << std::setw(12) << "full ms"
-            << std::setw(12) << "culled ms\n";
+            << "diff px" << std::setw(10) << "depth px" << std::setw(10) << "worst" << std::setw(8) << "views"
+            << std::setw(12) << "full ms" << std::setw(12) << "culled ms\n";
   for (const PixelCheck& p : study.pixels) {
     std::cout << std::setw(26) << (p.unit == "faces" ? "faces (ID-bitfields)" : std::to_string(p.patches) + " patches")
               << std::setw(9) << p.cameras << std::setw(9) << std::setprecision(1) << 100 * p.drawn_fraction << '%'
               << std::setw(12) << p.differing_pixels << std::setw(10) << p.depth_differing_pixels << std::setw(10)
-              << p.max_differing_pixels << std::setw(8)
-              << p.views_with_differences << std::setw(12) << std::setprecision(2) << 1000 * p.seconds_per_frame_full
-              << std::setw(11) << 1000 * p.seconds_per_frame_culled << '\n';
+              << p.max_differing_pixels << std::setw(8) << p.views_with_differences << std::setw(12)
+              << std::setprecision(2) << 1000 * p.seconds_per_frame_full << std::setw(11)
+              << 1000 * p.seconds_per_frame_culled << '\n';
   }
   return 0;
 }

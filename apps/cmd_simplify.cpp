@@ -49,7 +49,8 @@ int run_simplify(const Args& args) {
   parser.add(option_spec("--targets", "N,N,..", targets_text, "face counts of the levels to write (one run)"));
   parser.add(option_spec("--levels", "K", levels,
                          "K levels log-spaced from 30% of the faces down to the target (default 2%)"));
-  parser.add(switch_spec("--weights-from-quality", weights_from_quality, "take V from IN's face quality (no rendering)"));
+  parser.add(
+      switch_spec("--weights-from-quality", weights_from_quality, "take V from IN's face quality (no rendering)"));
   OptionSpec drop = option_spec("--drop-hidden", "T", drop_hidden,
                                 "first remove faces with V <= T (never seen: T = 0, the value when T is left out)");
   drop.implicit_value = "0";
@@ -118,8 +119,9 @@ int run_simplify(const Args& args) {
   std::vector<std::size_t> targets;
   if (!targets_text.empty()) targets = parse_count_list(targets_text, "--targets");
   if (levels > 0) {
-    const double low = options.target_faces > 0 ? double(options.target_faces) / double(std::max<std::size_t>(mesh.num_faces(), 1))
-                                                : (options.target_ratio > 0 ? options.target_ratio : CompareOptions{}.min_ratio);
+    const double low = options.target_faces > 0
+                           ? double(options.target_faces) / double(std::max<std::size_t>(mesh.num_faces(), 1))
+                           : (options.target_ratio > 0 ? options.target_ratio : CompareOptions{}.min_ratio);
     const double high = CompareOptions{}.max_ratio;  // the same levels as visimp compare's
     targets = default_targets(mesh.num_faces(), levels, std::min(low, high), high);
   }
@@ -127,8 +129,10 @@ int run_simplify(const Args& args) {
   std::vector<Simplified> results;
   {
     ProgressBar progress("simplify");
-    if (many) results = simplify_levels(mesh, options, targets, &progress);
-    else results.push_back(simplify(mesh, options, &progress));
+    if (many)
+      results = simplify_levels(mesh, options, targets, &progress);
+    else
+      results.push_back(simplify(mesh, options, &progress));
   }
 
   t = std::chrono::steady_clock::now();
@@ -153,7 +157,8 @@ int run_simplify(const Args& args) {
       json.field("mesh_visibility", visibility->mesh).field("visibility_from_quality", weights_from_quality);
     }
     if (removal) {
-      json.key("drop_hidden").begin_object()
+      json.key("drop_hidden")
+          .begin_object()
           .field("threshold", drop_hidden)
           .field("faces_removed", removal->faces_removed)
           .field("area_removed", removal->area_removed)
@@ -181,7 +186,8 @@ int run_simplify(const Args& args) {
           .end_object();
     }
     json.end_array();
-    json.key("seconds").begin_object()
+    json.key("seconds")
+        .begin_object()
         .field("read", read_seconds)
         .field("visibility", visibility_seconds)
         .field("simplify", results.back().result.seconds)
@@ -190,8 +196,8 @@ int run_simplify(const Args& args) {
     json.end_object();
   } else {
     if (removal) {
-      report << in << ": dropped " << removal->faces_removed << " hidden faces (" << 100.0 * removal->area_fraction_removed
-             << "% of the area)\n";
+      report << in << ": dropped " << removal->faces_removed << " hidden faces ("
+             << 100.0 * removal->area_fraction_removed << "% of the area)\n";
     }
     for (std::size_t i = 0; i < results.size(); ++i) {
       const SimplifyResult& r = results[i].result;

@@ -16,10 +16,10 @@
 #include "visimp/report/svg_plot.h"
 #include "visimp/visibility/orient.h"
 #include "visimp/visibility/visibility.h"
+#include "visimp/visibility/visibility_study.h"
 
 namespace visimp::app {
 namespace {
-
 
 // "a:b" → [a, b); empty → the whole set.
 std::pair<std::size_t, std::size_t> parse_camera_range(const std::string& text, std::size_t cameras) {
@@ -134,7 +134,9 @@ int run_visibility(const Args& args) {
   std::ostream& report = out == "-" ? std::cerr : std::cout;
   if (stream.json) {
     JsonWriter json(report);
-    json.begin_object().field("command", "visibility").field("input", in)
+    json.begin_object()
+        .field("command", "visibility")
+        .field("input", in)
         .field("input_format", input_format_name(stream))
         .field("format_detected", input_format_detected(stream))
         .field("output", out);
@@ -144,7 +146,8 @@ int run_visibility(const Args& args) {
     json.field("trust_winding", options.trust_winding);
     write_stats(json, s);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
-    json.key("seconds").begin_object()
+    json.key("seconds")
+        .begin_object()
         .field("read", read_seconds)
         .field("refine", s.seconds_refine)
         .field("render", render_seconds)
@@ -157,9 +160,8 @@ int run_visibility(const Args& args) {
   } else {
     report << in << ": ";
     if (visibility) report << "V(M) = " << visibility->mesh << ", ";
-    report << s.input_faces << " faces (" << s.refined_faces << " after refinement), cameras " << first << ".."
-           << last << " of " << cameras.size() << ", refine " << s.seconds_refine << " s, render " << render_seconds
-           << " s\n";
+    report << s.input_faces << " faces (" << s.refined_faces << " after refinement), cameras " << first << ".." << last
+           << " of " << cameras.size() << ", refine " << s.seconds_refine << " s, render " << render_seconds << " s\n";
   }
   return 0;
 }
@@ -200,7 +202,9 @@ int run_orient(const Args& args) {
   std::ostream& report = out == "-" ? std::cerr : std::cout;
   if (stream.json) {
     JsonWriter json(report);
-    json.begin_object().field("command", "orient").field("input", in)
+    json.begin_object()
+        .field("command", "orient")
+        .field("input", in)
         .field("input_format", input_format_name(stream))
         .field("format_detected", input_format_detected(stream))
         .field("output", out);
@@ -299,35 +303,17 @@ int run_visibility_study(const Args& args) {
   require_faces(mesh, in, "measure");
   const auto renderer = make_renderer(sampling.backend, render_options(sampling));
 
-  struct Row {
-    int level;
-    std::size_t cameras;
-    double seconds, mesh_visibility, error = 0;
-  };
-  std::vector<Row> rows;
-  std::vector<std::vector<float>> values;
+  std::vector<VisibilityStudyRow> rows;
   {
     ProgressBar progress("visibility-study");
-    for (int level = 0; level <= static_cast<int>(max_level); ++level) {
-      const Visibility v = compute_visibility(mesh, octahedron_cameras(level), *renderer, options);
-      rows.push_back({level, octahedron_camera_count(level), v.stats.seconds_total, v.mesh, 0});
-      values.push_back(v.face);
-      progress.on_progress(static_cast<double>(level + 1) / static_cast<double>(max_level + 1));
-    }
-  }
-  const std::vector<float>& reference = values.back();
-  double area_sum = 0;
-  std::vector<double> areas(mesh.num_faces());
-  for (std::size_t f = 0; f < areas.size(); ++f) area_sum += areas[f] = norm(face_normal_unnormalized(mesh, mesh.faces[f]));
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    double sum = 0;
-    for (std::size_t f = 0; f < areas.size(); ++f) sum += areas[f] * std::abs(values[i][f] - reference[f]);
-    rows[i].error = area_sum > 0 ? sum / area_sum : 0;
+    rows = visibility_study(mesh, *renderer, options, static_cast<int>(max_level), &progress);
   }
 
   std::ostringstream csv;
   csv << "level,cameras,seconds,mesh_visibility,mean_abs_error_vs_" << rows.back().cameras << "\n";
-  for (const Row& r : rows) csv << r.level << "," << r.cameras << "," << r.seconds << "," << r.mesh_visibility << "," << r.error << "\n";
+  for (const VisibilityStudyRow& r : rows)
+    csv << r.level << "," << r.cameras << "," << r.seconds << "," << r.mesh_visibility << "," << r.mean_abs_error
+        << "\n";
   if (!csv_path.empty()) {
     AtomicFileWriter file(csv_path);
     file.stream() << csv.str();
@@ -339,9 +325,10 @@ int run_visibility_study(const Args& args) {
     plot.x_label = "seconds";
     plot.y_label = "mean |V - V(" + std::to_string(rows.back().cameras) + " cameras)|";
     plot.log_x = plot.log_y = true;
-    PlotSeries series{renderer->name() + " " + std::to_string(sampling.resolution) + "px", {}, {}};
+    PlotSeries series;
+    series.label = renderer->name() + " " + std::to_string(sampling.resolution) + "px";
     for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
-      series.points.emplace_back(rows[i].seconds, rows[i].error);
+      series.points.emplace_back(rows[i].seconds, rows[i].mean_abs_error);
       series.point_labels.push_back(std::to_string(rows[i].cameras));
     }
     plot.series.push_back(series);
@@ -351,19 +338,21 @@ int run_visibility_study(const Args& args) {
   }
   if (stream.json) {
     JsonWriter json(std::cout);
-    json.begin_object().field("command", "visibility-study").field("input", in)
+    json.begin_object()
+        .field("command", "visibility-study")
+        .field("input", in)
         .field("input_format", input_format_name(stream))
         .field("format_detected", input_format_detected(stream))
         .field("backend", renderer->name());
     json.field("resolution", sampling.resolution).field("reference_cameras", rows.back().cameras);
     json.key("rows").begin_array();
-    for (const Row& r : rows) {
+    for (const VisibilityStudyRow& r : rows) {
       json.begin_object()
           .field("level", static_cast<std::int64_t>(r.level))
           .field("cameras", r.cameras)
           .field("seconds", r.seconds)
           .field("mesh_visibility", r.mesh_visibility)
-          .field("mean_abs_error", r.error)
+          .field("mean_abs_error", r.mean_abs_error)
           .end_object();
     }
     json.end_array().end_object();

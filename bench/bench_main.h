@@ -45,8 +45,8 @@ inline int guarded_main(const char* name, const char* usage, int argc, char** ar
 
 /// The shared meshes a benchmark runs on by default; each absent one is replaced by its
 /// bundled stand-in (meshes/), or dropped when it has none, with a note on stderr.
-inline std::vector<std::string> default_meshes(const char* name,
-                                               const std::vector<std::pair<std::string, std::string>>& shared_and_bundled) {
+inline std::vector<std::string> default_meshes(
+    const char* name, const std::vector<std::pair<std::string, std::string>>& shared_and_bundled) {
   std::vector<std::string> paths;
   for (const auto& [shared, bundled] : shared_and_bundled) {
     const std::string path = std::string(VISIMP_SHARED_MESHES_DIR) + "/" + shared;

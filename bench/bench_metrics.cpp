@@ -57,16 +57,16 @@ void compare(const char* label, const Mesh& a, const Mesh& b, bool with_bound, b
   const bench::ChildResult cgal = bench::run_in_child(1, [&] {
     const SurfaceMesh ca = to_cgal(a), cb = to_cgal(b);
     const double per_area_a = double(samples) / PMP::area(ca), per_area_b = double(samples) / PMP::area(cb);
-    return std::vector<double>{std::max(
-        PMP::approximate_Hausdorff_distance<CGAL::Parallel_if_available_tag>(
-            ca, cb, PMP::parameters::number_of_points_per_area_unit(per_area_a)),
-        PMP::approximate_Hausdorff_distance<CGAL::Parallel_if_available_tag>(
-            cb, ca, PMP::parameters::number_of_points_per_area_unit(per_area_b)))};
+    return std::vector<double>{std::max(PMP::approximate_Hausdorff_distance<CGAL::Parallel_if_available_tag>(
+                                            ca, cb, PMP::parameters::number_of_points_per_area_unit(per_area_a)),
+                                        PMP::approximate_Hausdorff_distance<CGAL::Parallel_if_available_tag>(
+                                            cb, ca, PMP::parameters::number_of_points_per_area_unit(per_area_b)))};
   });
   std::printf("\n%s: A %zu faces, B %zu faces, %zu face samples per direction, 2 cores\n\n", label, a.num_faces(),
               b.num_faces(), samples);
-  std::printf("| method | wall s | CPU s | peak MB | Hausdorff / diag | RMS / diag | wall vs visimp |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| method | wall s | CPU s | peak MB | Hausdorff / diag | RMS / diag | wall vs visimp |\n"
+      "|---|---|---|---|---|---|---|\n");
   std::printf("| visimp metro | %.2f | %.2f | %.0f | %.5e | %.4e | 1.00 |\n", ours.wall, ours.cpu, ours.peak_mb,
               ours.values[0] / diagonal, ours.values[1] / diagonal);
   std::printf("| CGAL approximate_Hausdorff_distance | %.2f | %.2f | %.0f | %.5e | | %.2f |\n", cgal.wall, cgal.cpu,
@@ -85,11 +85,12 @@ void compare(const char* label, const Mesh& a, const Mesh& b, bool with_bound, b
                 100.0 * (bound.values[1] - ours.values[0]) / bound.values[1]);
   }
   if (with_image) {
-    const bench::ChildResult image = bench::run_in_child(1, [&] {
-      return std::vector<double>{visimp::image_error(a, b).rms_per_pixel};
-    });
-    std::printf("| visimp imgerr (20 views, 256², 4×4 samples a pixel) | %.2f | %.2f | %.0f | per-pixel RMS %.3f of 255 | | |\n",
-                image.wall, image.cpu, image.peak_mb, image.values[0]);
+    const bench::ChildResult image =
+        bench::run_in_child(1, [&] { return std::vector<double>{visimp::image_error(a, b).rms_per_pixel}; });
+    std::printf(
+        "| visimp imgerr (20 views, 256², 4×4 samples a pixel) | %.2f | %.2f | %.0f | per-pixel RMS %.3f of 255 | | "
+        "|\n",
+        image.wall, image.cpu, image.peak_mb, image.values[0]);
   }
 }
 
@@ -101,7 +102,8 @@ constexpr const char* kUsage =
 
 int run(const std::vector<std::string>& args) {
   if (args.size() > 1) throw visimp::UsageError("give at most one mesh (see --help)");
-  const std::string path = !args.empty() ? args[0] : bench::default_meshes("bench_metrics", {{"dragon.ply", "bunny.ply"}})[0];
+  const std::string path =
+      !args.empty() ? args[0] : bench::default_meshes("bench_metrics", {{"dragon.ply", "bunny.ply"}})[0];
   const Mesh dragon = visimp::read_mesh(path);
   const Mesh fine = simplified(dragon, 235000), coarse = simplified(fine, 2350);
   std::printf("mesh: %s (%zu faces)\n", path.c_str(), dragon.num_faces());

@@ -43,15 +43,7 @@ double best_seconds(int repeats, F&& f) {
 }
 
 BitfieldSet make_set(const Mesh& mesh, const PatchPartition& partition, const CameraSet& cameras, Renderer& renderer) {
-  BitfieldSet set;
-  set.mesh_hash = hash_mesh(mesh);
-  set.faces = mesh.num_faces();
-  set.resolution = static_cast<std::uint32_t>(renderer.resolution());
-  const BoundingBox box = bounding_box(mesh);
-  set.center = box.center();
-  set.radius = view_radius(box);
-  set.cameras = cameras;
-  set.face_patch = partition.face_patch;
+  BitfieldSet set = make_bitfield_set(mesh, partition, false, cameras, renderer.resolution(), {});
   set.bits = record_bitfields(mesh, partition, cameras, renderer, {});
   return set;
 }
@@ -75,7 +67,8 @@ constexpr const char* kUsage =
 
 int run(const std::vector<std::string>& args) {
   if (args.size() > 1) throw visimp::UsageError("give at most one mesh (see --help)");
-  const std::string path = !args.empty() ? args[0] : bench::default_meshes("bench_patches", {{"dragon.ply", "bunny.ply"}})[0];
+  const std::string path =
+      !args.empty() ? args[0] : bench::default_meshes("bench_patches", {{"dragon.ply", "bunny.ply"}})[0];
   const Mesh mesh = read_mesh(path);
   std::printf("mesh: %s (%zu faces)\n\n", path.c_str(), mesh.num_faces());
   RenderOptions render;
@@ -120,7 +113,8 @@ int run(const std::vector<std::string>& args) {
   auto listed = [&](const ViewReconstructor& r, const Vec3& d) {
     r.join(d, joined.data());
     list.clear();
-    for_each_set_bit(joined.data(), joined.size(), [&](std::size_t u) { list.push_back(static_cast<std::uint32_t>(u)); });
+    for_each_set_bit(joined.data(), joined.size(),
+                     [&](std::size_t u) { list.push_back(static_cast<std::uint32_t>(u)); });
     return list.size();
   };
   const double hierarchy_ns = ns_per_query(directions, [&](const Vec3& d) { return listed(plain, d); });
@@ -141,7 +135,8 @@ int run(const std::vector<std::string>& args) {
       for (std::size_t w = 0; w < joined.size(); ++w) joined[w] |= row[w];
     }
     list.clear();
-    for_each_set_bit(joined.data(), joined.size(), [&](std::size_t u) { list.push_back(static_cast<std::uint32_t>(u)); });
+    for_each_set_bit(joined.data(), joined.size(),
+                     [&](std::size_t u) { list.push_back(static_cast<std::uint32_t>(u)); });
     return list.size();
   });
   // Arbitrary camera set of the same size: convex hull + walk, 6 rows.
@@ -150,18 +145,23 @@ int run(const std::vector<std::string>& args) {
   arbitrary.bits = record_bitfields(mesh, patches, arbitrary.cameras, *renderer, {});
   const ViewReconstructor hull(arbitrary);
   const double hull_ns = ns_per_query(directions, [&](const Vec3& d) { return listed(hull, d); });
-  std::printf("view reconstruction: 1000 patches, 1026 samples (sampling took %.2f s), 100000 random directions,\n"
-              "select + OR + list of patches to draw, best of 5\n\n"
-              "| method | ns / query | vs visimp hierarchy |\n|---|---|---|\n", sampling_s);
+  std::printf(
+      "view reconstruction: 1000 patches, 1026 samples (sampling took %.2f s), 100000 random directions,\n"
+      "select + OR + list of patches to draw, best of 5\n\n"
+      "| method | ns / query | vs visimp hierarchy |\n|---|---|---|\n",
+      sampling_s);
   std::printf("| visimp octahedron hierarchy (3 rows) | %.0f | 1.00 |\n", hierarchy_ns);
-  std::printf("| visimp hierarchy, rows precomputed per cell | %.0f | %.2f |\n", precomputed_ns, precomputed_ns / hierarchy_ns);
+  std::printf("| visimp hierarchy, rows precomputed per cell | %.0f | %.2f |\n", precomputed_ns,
+              precomputed_ns / hierarchy_ns);
   std::printf("| visimp convex hull walk, arbitrary set (6 rows) | %.0f | %.2f |\n", hull_ns, hull_ns / hierarchy_ns);
   std::printf("| naive: scan 1026 cameras for the 3 nearest | %.0f | %.2f |\n\n", naive_ns, naive_ns / hierarchy_ns);
-  std::printf("goal: <= 10 us per query -> %s (%.2f us)\n\n", hierarchy_ns <= 10000 ? "met" : "NOT met", hierarchy_ns / 1000);
+  std::printf("goal: <= 10 us per query -> %s (%.2f us)\n\n", hierarchy_ns <= 10000 ? "met" : "NOT met",
+              hierarchy_ns / 1000);
 
   // 3. File sizes.
-  std::printf("file sizes, 1026 samples (paper: 183 KB for 50 patches, 709 KB for 2000)\n\n"
-              "| patches | file bytes | bitfield bytes | bitfields uncompressed | patch map bytes |\n|---|---|---|---|---|\n");
+  std::printf(
+      "file sizes, 1026 samples (paper: 183 KB for 50 patches, 709 KB for 2000)\n\n"
+      "| patches | file bytes | bitfield bytes | bitfields uncompressed | patch map bytes |\n|---|---|---|---|---|\n");
   for (std::size_t count : {50u, 2000u}) {
     patch_options.count = count;
     const PatchPartition p = build_patches(mesh, patch_options);
@@ -170,7 +170,8 @@ int run(const std::vector<std::string>& args) {
     const BitfieldFileSizes sizes = write_bitfield_file(s, file, true);
     std::remove(file.c_str());
     std::printf("| %zu | %llu | %llu | %llu | %llu |\n", count, static_cast<unsigned long long>(sizes.total),
-                static_cast<unsigned long long>(sizes.bitfields), static_cast<unsigned long long>(sizes.bitfields_uncompressed),
+                static_cast<unsigned long long>(sizes.bitfields),
+                static_cast<unsigned long long>(sizes.bitfields_uncompressed),
                 static_cast<unsigned long long>(sizes.patch_map));
   }
   return 0;

@@ -187,8 +187,8 @@ void vg_overhead(const Mesh& input, const std::string& name, double ratio, int r
     std::sort(x.begin(), x.end());
     return x[x.size() / 2];
   };
-  std::printf("| %s | %g | %.3f | %.3f | %+.1f%% | %+.1f%% | %.3f | %+.1f%% | %+.1f%% |\n", name.c_str(), ratio, best[0],
-              best[1], 100.0 * (best[1] - best[0]) / best[0], 100.0 * (median(ratio_ones) - 1), best[2],
+  std::printf("| %s | %g | %.3f | %.3f | %+.1f%% | %+.1f%% | %.3f | %+.1f%% | %+.1f%% |\n", name.c_str(), ratio,
+              best[0], best[1], 100.0 * (best[1] - best[0]) / best[0], 100.0 * (median(ratio_ones) - 1), best[2],
               100.0 * (best[2] - best[0]) / best[0], 100.0 * (median(ratio_real) - 1));
   std::fflush(stdout);
 }
@@ -233,10 +233,14 @@ int run(const std::vector<std::string>& args) {
   bool overhead_only = false;
   double cpu_limit = 300;  // per peer run; a run past it is reported as failed
   for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--vg-overhead") overhead_only = true;
-    else if (args[i] == "--cpu-limit" && i + 1 < args.size()) cpu_limit = std::atof(args[++i].c_str());
-    else if (!args[i].empty() && args[i][0] == '-') throw visimp::UsageError("unknown option " + args[i] + " (see --help)");
-    else meshes.push_back(args[i]);
+    if (args[i] == "--vg-overhead")
+      overhead_only = true;
+    else if (args[i] == "--cpu-limit" && i + 1 < args.size())
+      cpu_limit = std::atof(args[++i].c_str());
+    else if (!args[i].empty() && args[i][0] == '-')
+      throw visimp::UsageError("unknown option " + args[i] + " (see --help)");
+    else
+      meshes.push_back(args[i]);
   }
   if (!(cpu_limit >= 1)) throw visimp::UsageError("--cpu-limit takes seconds >= 1");
   if (meshes.empty()) {
@@ -247,7 +251,9 @@ int run(const std::vector<std::string>& args) {
   const std::vector<std::pair<const char*, std::function<Mesh(const Mesh&, std::size_t)>>> methods = {
       {"visimp-qb", run_visimp}, {"meshopt", run_meshopt}, {"cgal-gh", run_cgal}, {"openmesh", run_openmesh}};
   const std::string tmp = "/tmp/visimp_bench_" + std::to_string(getpid()) + ".ply";
-  std::printf("| mesh | faces in | ratio | method | faces out | CPU s | peak MB | B/tri | Hausdorff/diag | RMS/diag | CPU vs visimp | Hausdorff vs visimp | RMS vs visimp |\n");
+  std::printf(
+      "| mesh | faces in | ratio | method | faces out | CPU s | peak MB | B/tri | Hausdorff/diag | RMS/diag | CPU vs "
+      "visimp | Hausdorff vs visimp | RMS vs visimp |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : meshes) {
     if (overhead_only) break;
@@ -264,8 +270,8 @@ int run(const std::vector<std::string>& args) {
           continue;
         }
         if (std::string(label) == "visimp-qb") ref = m;
-        std::printf("| %s | %zu | %g | %s | %zu | %.3f | %.1f | %.0f | %.3e | %.3e | %.2f | %.2f | %.2f |\n", name.c_str(),
-                    input.num_faces(), ratio, label, m.faces, m.cpu, m.peak_mb,
+        std::printf("| %s | %zu | %g | %s | %zu | %.3f | %.1f | %.0f | %.3e | %.3e | %.2f | %.2f | %.2f |\n",
+                    name.c_str(), input.num_faces(), ratio, label, m.faces, m.cpu, m.peak_mb,
                     m.peak_mb * 1048576.0 / double(input.num_faces()), m.hausdorff, m.rms, m.cpu / ref.cpu,
                     m.hausdorff / ref.hausdorff, m.rms / ref.rms);
         std::fflush(stdout);
@@ -274,9 +280,10 @@ int run(const std::vector<std::string>& args) {
   }
   std::remove(tmp.c_str());
   std::printf("\nVG overhead over QB with V known (258 cameras, 480²; 9 interleaved rounds):\n\n");
-  std::printf("| mesh | ratio | QB min CPU s | VG (V = 1) min CPU s | vs QB (min) | vs QB (median of rounds) | "
-              "VG (real V) min CPU s | vs QB (min) | vs QB (median of rounds) |\n"
-              "|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| mesh | ratio | QB min CPU s | VG (V = 1) min CPU s | vs QB (min) | vs QB (median of rounds) | "
+      "VG (real V) min CPU s | vs QB (min) | vs QB (median of rounds) |\n"
+      "|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : meshes) {
     const Mesh input = visimp::read_mesh(path);
     vg_overhead(input, path.substr(path.find_last_of('/') + 1), 0.1, 9);

@@ -79,8 +79,9 @@ int reference_table(std::vector<std::string> meshes) {
                                                         {"dragon.ply", ""}});
   }
   const visimp::CameraSet cameras = visimp::octahedron_cameras(3), fine = visimp::octahedron_cameras(4);
-  std::printf("| mesh | V(M) visimp 258×480² | hidden | s | V(M) visimp 1026×1024² | s | V(M) ray cast 1026×1024² | "
-              "hidden | s | mean abs dV | dV(M) | ray-cast hidden area at V <= 0.02 | s visimp / ray cast |\n");
+  std::printf(
+      "| mesh | V(M) visimp 258×480² | hidden | s | V(M) visimp 1026×1024² | s | V(M) ray cast 1026×1024² | "
+      "hidden | s | mean abs dV | dV(M) | ray-cast hidden area at V <= 0.02 | s visimp / ray cast |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : meshes) {
     const Mesh mesh = visimp::read_mesh(path);
@@ -115,16 +116,21 @@ int run(const std::vector<std::string>& args) {
   std::vector<std::string> meshes;
   bool reference = false;
   for (const std::string& a : args) {
-    if (a == "--reference") reference = true;
-    else if (!a.empty() && a[0] == '-') throw visimp::UsageError("unknown option " + a + " (see --help)");
-    else meshes.push_back(a);
+    if (a == "--reference")
+      reference = true;
+    else if (!a.empty() && a[0] == '-')
+      throw visimp::UsageError("unknown option " + a + " (see --help)");
+    else
+      meshes.push_back(a);
   }
   if (reference) return reference_table(meshes);
-  if (meshes.empty()) meshes = bench::default_meshes("bench_visibility", {{"dragon.ply", "bunny.ply"}, {"bunny.ply", "bunny.ply"}});
+  if (meshes.empty())
+    meshes = bench::default_meshes("bench_visibility", {{"dragon.ply", "bunny.ply"}, {"bunny.ply", "bunny.ply"}});
   const visimp::CameraSet cameras = visimp::octahedron_cameras(3);
   const int resolution = 480;
-  std::printf("| mesh | faces | faces rendered | method | prepare s | render+tally s (wall) | render only s (wall) | "
-              "CPU s | peak MB | V(M) | paper V(M) | render vs floor | vs raster |\n");
+  std::printf(
+      "| mesh | faces | faces rendered | method | prepare s | render+tally s (wall) | render only s (wall) | "
+      "CPU s | peak MB | V(M) | paper V(M) | render vs floor | vs raster |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : meshes) {
     const Mesh mesh = visimp::read_mesh(path);
@@ -136,8 +142,9 @@ int run(const std::vector<std::string>& args) {
     for (const char* backend : {"raster", "osmesa"}) {
       const bench::ChildResult r = bench::run_in_child(6, [&] {
         const visimp::RenderOptions options{resolution, 0};
-        auto renderer = std::string(backend) == "raster" ? visimp::make_raster_renderer(options)
-                                                         : (visimp::keep_allocator_memory_for_osmesa(), visimp::make_osmesa_renderer(options));
+        auto renderer = std::string(backend) == "raster"
+                            ? visimp::make_raster_renderer(options)
+                            : (visimp::keep_allocator_memory_for_osmesa(), visimp::make_osmesa_renderer(options));
         double t = bench::wall_seconds();
         const visimp::VisibilityJob job(mesh, resolution, {});
         const double prepare = bench::wall_seconds() - t;
@@ -158,10 +165,10 @@ int run(const std::vector<std::string>& args) {
       }
       if (std::string(backend) == "raster") raster_render = r.values[1];
       const double paper = paper_visibility(name);
-      std::printf("| %s | %zu | %.0f | %s | %.3f | %.3f | %.3f | %.2f | %.1f | %.3f | %s | %.2f | %.2f |\n", name.c_str(),
-                  mesh.num_faces(), r.values[4], backend, r.values[0], r.values[1], r.values[2], r.cpu, r.peak_mb,
-                  r.values[3], paper > 0 ? std::to_string(paper).substr(0, 5).c_str() : "", r.values[1] / floor.values[0],
-                  r.values[1] / raster_render);
+      std::printf("| %s | %zu | %.0f | %s | %.3f | %.3f | %.3f | %.2f | %.1f | %.3f | %s | %.2f | %.2f |\n",
+                  name.c_str(), mesh.num_faces(), r.values[4], backend, r.values[0], r.values[1], r.values[2], r.cpu,
+                  r.peak_mb, r.values[3], paper > 0 ? std::to_string(paper).substr(0, 5).c_str() : "",
+                  r.values[1] / floor.values[0], r.values[1] / raster_render);
       std::fflush(stdout);
     }
   }

@@ -43,9 +43,10 @@ int main(int argc, char** argv) {
         visimp::reference::raycast_visibility(mesh, visimp::camera_set_from_spec(cameras), options);
     mesh.face_quality = v.face;
     visimp::write_mesh(mesh, out);  // atomic: temp file + rename
-    std::printf("{\"input\": \"%s\", \"output\": \"%s\", \"mesh_visibility\": %.6f, \"hidden_area_fraction\": %.6f, "
-                "\"refined_faces\": %zu, \"seconds\": %.2f}\n",
-                in.c_str(), out.c_str(), v.mesh, v.hidden_area_fraction, v.refined_faces, v.seconds);
+    std::printf(
+        "{\"input\": \"%s\", \"output\": \"%s\", \"mesh_visibility\": %.6f, \"hidden_area_fraction\": %.6f, "
+        "\"refined_faces\": %zu, \"seconds\": %.2f}\n",
+        in.c_str(), out.c_str(), v.mesh, v.hidden_area_fraction, v.refined_faces, v.seconds);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "reference_visibility: error: %s\n", e.what());

@@ -13,7 +13,7 @@ namespace visimp::test {
 
 struct BadInput {
   std::string name;
-  std::string file;      ///< file name whose extension selects the reader ("x.ply")
+  std::string file;  ///< file name whose extension selects the reader ("x.ply")
   std::string bytes;
   std::string expected;  ///< a fragment of the error message
   /// A well-formed file with nothing in it to simplify, measure or compare (no faces): the

@@ -21,7 +21,8 @@ class TempDir {
   explicit TempDir(const std::string& name) {
     std::string safe = name;
     for (char& c : safe) {
-      const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+      const bool plain =
+          (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
       if (!plain) c = '_';
     }
     const std::string pattern = (std::filesystem::temp_directory_path() / ("visimp_test_" + safe + "_XXXXXX")).string();

@@ -82,7 +82,7 @@ TEST_F(Hardening, EveryBadInputFailsWithOneLineNamingTheFileAndNoOutput) {
     std::ofstream(in, std::ios::binary) << c.bytes;
     for (const std::string command : {"simplify", "visibility", "compare"}) {
       const std::string out = dir + (command == "compare" ? "/out_compare" : "/out.ply");
-      const std::string args = command == "simplify"   ? in + " " + out + " --ratio 0.5"
+      const std::string args = command == "simplify"  ? in + " " + out + " --ratio 0.5"
                                : command == "compare" ? in + " -o " + out
                                                       : in + " " + out;
       const AppRun r = run(command + " " + args, dir);
@@ -131,17 +131,22 @@ std::string without_seconds(const std::string& json) {
   bool in_seconds = false;
   std::istringstream lines(json);
   for (std::string line; std::getline(lines, line);) {
-    if (line.find("\"seconds\"") != std::string::npos) in_seconds = line.find('{') != std::string::npos;
-    else if (in_seconds) in_seconds = line.find('}') == std::string::npos;
-    else out += line + "\n";
+    if (line.find("\"seconds\"") != std::string::npos)
+      in_seconds = line.find('{') != std::string::npos;
+    else if (in_seconds)
+      in_seconds = line.find('}') == std::string::npos;
+    else
+      out += line + "\n";
   }
   return out;
 }
 
 TEST_F(Hardening, SameBytesAndNumbersForOneAndTwoThreads) {
   const std::string mesh = test::bundled_mesh("kicad_esp_wroom02.ply");
-  const AppRun one = run("visibility " + mesh + " " + dir + "/one.ply --cameras 66 --resolution 200 --threads 1 --json", dir);
-  const AppRun two = run("visibility " + mesh + " " + dir + "/two.ply --cameras 66 --resolution 200 --threads 2 --json", dir);
+  const AppRun one =
+      run("visibility " + mesh + " " + dir + "/one.ply --cameras 66 --resolution 200 --threads 1 --json", dir);
+  const AppRun two =
+      run("visibility " + mesh + " " + dir + "/two.ply --cameras 66 --resolution 200 --threads 2 --json", dir);
   ASSERT_EQ(one.code, 0) << one.err;
   ASSERT_EQ(two.code, 0) << two.err;
   EXPECT_EQ(slurp(dir + "/one.ply"), slurp(dir + "/two.ply"));
@@ -201,7 +206,8 @@ TEST_F(Hardening, InterruptsLeaveOldOrCompleteOutputsAndNoTemporaryFiles) {
       {"compare",
        {"compare", small, "-o", dir + "/cmp", "--levels", "2", "--cameras", "18", "--resolution", "64",
         "--image-resolution", "32", "--image-supersample", "1", "--metro-samples", "2000"},
-       dir + "/cmp", true},
+       dir + "/cmp",
+       true},
   };
   // Points: one before the first write begins (while reading or computing), nine during the
   // writes, at growing delays after the first temporary file appears.

@@ -29,10 +29,10 @@ class App : public ::testing::Test {
 };
 
 TEST_F(App, HelpEverywhereExitsZero) {
-  for (const char* cmd : {"--help", "simplify --help", "info --help", "convert --help", "visibility --help",
-                          "visibility-merge --help", "visibility-study --help", "orient --help", "metro --help", "imgerr --help",
-                          "compare --help", "patches --help", "patches build --help", "patches query --help",
-                          "patches study --help"}) {
+  for (const char* cmd :
+       {"--help", "simplify --help", "info --help", "convert --help", "visibility --help", "visibility-merge --help",
+        "visibility-study --help", "orient --help", "metro --help", "imgerr --help", "compare --help", "patches --help",
+        "patches build --help", "patches query --help", "patches study --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -100,8 +100,8 @@ TEST_F(App, PipesThroughStdinAndStdout) {
   const std::string out = dir + "/piped.obj";
   const AppRun r = run("simplify - - --ratio 0.5 --format ply --output-format obj --json", dir, bunny);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("\nf "), std::string::npos);            // the mesh went to stdout
-  EXPECT_NE(r.err.find("\"faces_out\""), std::string::npos);   // the summary to stderr
+  EXPECT_NE(r.out.find("\nf "), std::string::npos);           // the mesh went to stdout
+  EXPECT_NE(r.err.find("\"faces_out\""), std::string::npos);  // the summary to stderr
   std::ofstream(out) << r.out;
   EXPECT_EQ(read_mesh(out).num_faces(), 1836u);
 }
@@ -123,7 +123,7 @@ TEST_F(App, TheContentDecidesWhenTheExtensionIsMissingOrWrong) {
   // stdin without --format, stdout in the input's format (OBJ in, OBJ out).
   const AppRun piped = run("simplify - - --ratio 0.5", dir, dir + "/bunny.obj");
   ASSERT_EQ(piped.code, 0) << piped.err;
-  EXPECT_EQ(piped.out.rfind("v ", 0) == 0 || piped.out.rfind("#", 0) == 0, true) << piped.out.substr(0, 80);
+  EXPECT_EQ(piped.out.rfind("v ", 0) == 0 || piped.out.rfind('#', 0) == 0, true) << piped.out.substr(0, 80);
   EXPECT_NE(piped.out.find("\nf "), std::string::npos);
 }
 
@@ -171,8 +171,9 @@ TEST_F(App, NothingToSimplifyExitsOne) {
   Mesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   write_mesh(m, empty);
-  for (const std::string& cmd : {"simplify " + empty + " " + dir + "/o.ply --ratio 0.5", "visibility " + empty + " " + dir + "/o.ply",
-                                "compare " + empty + " -o " + dir + "/cmp"}) {
+  for (const std::string& cmd :
+       {"simplify " + empty + " " + dir + "/o.ply --ratio 0.5", "visibility " + empty + " " + dir + "/o.ply",
+        "compare " + empty + " -o " + dir + "/cmp"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 1) << cmd;
     EXPECT_NE(r.err.find(empty + ": no faces"), std::string::npos) << r.err;
@@ -196,11 +197,9 @@ TEST_F(App, ConvertRoundTripsEveryFormat) {
   }
 }
 
-
 TEST_F(App, VisibilityWritesQualityJsonAndAPicture) {
-  const AppRun r = run("visibility " + bunny + " " + dir + "/v.ply --cameras 66 --resolution 200 --png " + dir +
-                           "/v.png --json",
-                       dir);
+  const AppRun r = run(
+      "visibility " + bunny + " " + dir + "/v.ply --cameras 66 --resolution 200 --png " + dir + "/v.png --json", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"mesh_visibility\": 0.9"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"cameras\": 66"), std::string::npos) << r.out;
@@ -228,9 +227,7 @@ TEST_F(App, VisibilitySlicesMergeToTheSameFileBitForBit) {
 }
 
 TEST_F(App, VisibilityRejectsBadCamerasAndOutputs) {
-  {
-    std::ofstream(dir + "/cams.txt") << "0 0 1\n1 nan 0\n";
-  }
+  { std::ofstream(dir + "/cams.txt") << "0 0 1\n1 nan 0\n"; }
   AppRun r = run("visibility " + bunny + " " + dir + "/v.ply --cameras " + dir + "/cams.txt", dir);
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("cams.txt: line 2"), std::string::npos) << r.err;
@@ -252,7 +249,8 @@ TEST_F(App, OrientRewindsAnInwardScanAndInfoSaysSo) {
   const AppRun before = run("info " + dir + "/inward.ply --json", dir);
   ASSERT_EQ(before.code, 0) << before.err;
   EXPECT_NE(before.out.find("\"seen_from_behind_faces\": 3674"), std::string::npos) << before.out;
-  const AppRun r = run("orient " + dir + "/inward.ply " + dir + "/outward.ply --cameras 66 --resolution 200 --json", dir);
+  const AppRun r =
+      run("orient " + dir + "/inward.ply " + dir + "/outward.ply --cameras 66 --resolution 200 --json", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"reversed_faces\": 3674"), std::string::npos) << r.out;
   const AppRun after = run("info " + dir + "/outward.ply --json", dir);
@@ -266,9 +264,9 @@ TEST_F(App, OrientRewindsAnInwardScanAndInfoSaysSo) {
 }
 
 TEST_F(App, VisibilityStudyReportsErrorAgainstTime) {
-  const AppRun r = run("visibility-study " + bunny + " --max-level 2 --resolution 128 --svg " + dir + "/s.svg --csv " +
-                           dir + "/s.csv",
-                       dir);
+  const AppRun r = run(
+      "visibility-study " + bunny + " --max-level 2 --resolution 128 --svg " + dir + "/s.svg --csv " + dir + "/s.csv",
+      dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("level,cameras,seconds"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\n2,66,"), std::string::npos) << r.out;
@@ -299,8 +297,10 @@ TEST_F(App, MetroAndImageErrorReportAPair) {
 
 TEST_F(App, SimplifyVgWritesEveryLevelAndDropsHiddenFaces) {
   const std::string esp = test::bundled_mesh("kicad_esp_wroom02.ply");
-  const AppRun r = run("simplify " + esp + " " + dir + "/esp.ply --method vg --drop-hidden --levels 3 --cameras 66 "
-                       "--resolution 256 --json", dir);
+  const AppRun r = run("simplify " + esp + " " + dir +
+                           "/esp.ply --method vg --drop-hidden --levels 3 --cameras 66 "
+                           "--resolution 256 --json",
+                       dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"method\": \"vg\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"faces_removed\""), std::string::npos) << r.out;
@@ -315,15 +315,18 @@ TEST_F(App, SimplifyVgWritesEveryLevelAndDropsHiddenFaces) {
   }
   EXPECT_EQ(files, 3u);
   // VG without V anywhere is refused before any work.
-  const AppRun bad = run("simplify " + bunny + " " + dir + "/b.ply --ratio 0.5 --method vg --weights-from-quality", dir);
+  const AppRun bad =
+      run("simplify " + bunny + " " + dir + "/b.ply --ratio 0.5 --method vg --weights-from-quality", dir);
   EXPECT_EQ(bad.code, 1) << bad.err;
   EXPECT_NE(bad.err.find("bunny.ply"), std::string::npos) << bad.err;
   EXPECT_EQ(run("simplify " + bunny + " - --levels 3 --format ply", dir).code, 2);
 }
 
 TEST_F(App, CompareWritesTheReportAndTheTableRow) {
-  const AppRun r = run("compare " + bunny + " -o " + dir + "/cmp --targets 1000,300 --cameras 18 --resolution 128 "
-                       "--metro-samples 100000 --image-resolution 64 --json", dir);
+  const AppRun r = run("compare " + bunny + " -o " + dir +
+                           "/cmp --targets 1000,300 --cameras 18 --resolution 128 "
+                           "--metro-samples 100000 --image-resolution 64 --json",
+                       dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"less_image_error_with_vg_percent\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"unreached_levels\": \"\""), std::string::npos) << r.out;  // the bunny reaches both
@@ -331,8 +334,10 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
   for (const char* f : {"report.html", "results.csv", "results.json", "image_error_vs_seconds.svg", "visibility.png",
                         "side_by_side.png"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/cmp/" + f)) << f;
-  const AppRun text = run("compare " + bunny + " -o " + dir + "/cmp2 --targets 500 --cameras 6 --resolution 64 "
-                          "--metro-samples 10000 --image-resolution 32 --tie-noise 1", dir);
+  const AppRun text = run("compare " + bunny + " -o " + dir +
+                              "/cmp2 --targets 500 --cameras 6 --resolution 64 "
+                              "--metro-samples 10000 --image-resolution 32 --tie-noise 1",
+                          dir);
   ASSERT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("| bunny | 3674 |"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("near-tie run(s), per level: above their spread at "), std::string::npos) << text.out;
@@ -345,9 +350,12 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
 
 TEST_F(App, PatchesBuildQueryAndStudy) {
   const std::string vbf = dir + "/bunny.vbf";
-  const AppRun build = run("patches build " + bunny + " -o " + vbf + " --patches 120 --cameras 66 --resolution 160 "
-                           "--patch-ply " + dir + "/patches.ply --patch-png " + dir + "/patches.png --visibility " +
-                           dir + "/v.ply --json", dir);
+  const AppRun build =
+      run("patches build " + bunny + " -o " + vbf +
+              " --patches 120 --cameras 66 --resolution 160 "
+              "--patch-ply " +
+              dir + "/patches.ply --patch-png " + dir + "/patches.png --visibility " + dir + "/v.ply --json",
+          dir);
   ASSERT_EQ(build.code, 0) << build.err;
   EXPECT_NE(build.out.find("\"units\": 120"), std::string::npos) << build.out;
   EXPECT_NE(build.out.find("\"mesh_visibility\""), std::string::npos) << build.out;
@@ -363,7 +371,8 @@ TEST_F(App, PatchesBuildQueryAndStudy) {
   for (int p; lines >> p;) patches.insert(p);
   EXPECT_GT(patches.size(), 20u);
   EXPECT_LT(patches.size(), 120u);
-  const AppRun culled = run("patches query " + vbf + " --direction 0,0,1 --mesh " + bunny + " -o " + dir + "/c.ply", dir);
+  const AppRun culled =
+      run("patches query " + vbf + " --direction 0,0,1 --mesh " + bunny + " -o " + dir + "/c.ply", dir);
   ASSERT_EQ(culled.code, 0) << culled.err;
   const Mesh tagged = read_mesh(dir + "/patches.ply");
   std::size_t expected = 0;
@@ -371,7 +380,8 @@ TEST_F(App, PatchesBuildQueryAndStudy) {
   EXPECT_EQ(read_mesh(dir + "/c.ply").num_faces(), expected);
 
   // The wrong mesh, a missing view and a damaged file are refused.
-  const AppRun wrong = run("patches query " + vbf + " --direction 0,0,1 --mesh " + dir + "/c.ply -o " + dir + "/x.ply", dir);
+  const AppRun wrong =
+      run("patches query " + vbf + " --direction 0,0,1 --mesh " + dir + "/c.ply -o " + dir + "/x.ply", dir);
   EXPECT_EQ(wrong.code, 1);
   EXPECT_NE(wrong.err.find("belongs to another mesh"), std::string::npos) << wrong.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
@@ -379,8 +389,10 @@ TEST_F(App, PatchesBuildQueryAndStudy) {
   EXPECT_EQ(run("patches query " + bunny + " --direction 1,0,0", dir).code, 1);
   EXPECT_EQ(run("patches build " + bunny + " -o " + bunny, dir).code, 2);
 
-  const AppRun study = run("patches study " + bunny + " -o " + dir + "/study --patch-counts 30,300 --max-cameras 66 "
-                           "--viewpoints 50 --pixel-views 3 --resolution 96 --timing-backend none", dir);
+  const AppRun study = run("patches study " + bunny + " -o " + dir +
+                               "/study --patch-counts 30,300 --max-cameras 66 "
+                               "--viewpoints 50 --pixel-views 3 --resolution 96 --timing-backend none",
+                           dir);
   ASSERT_EQ(study.code, 0) << study.err;
   EXPECT_NE(study.out.find("300 patches"), std::string::npos) << study.out;
   for (const char* f : {"study.csv", "study.json", "culling_vs_samples.svg", "culling_vs_patches.svg"})

@@ -84,25 +84,19 @@ TEST(DodecahedronCameras, TwentyVerticesThreeEqualNeighbours) {
 TEST(CameraFile, ReadsNormalisesAndRejectsBadLines) {
   const test::TempDir temp("camera_file");
   const std::string& dir = temp.path();
-  {
-    std::ofstream(dir + "/good.txt") << "# two cameras\n0 0 2\n\n1 1 0  # diagonal\n";
-  }
+  { std::ofstream(dir + "/good.txt") << "# two cameras\n0 0 2\n\n1 1 0  # diagonal\n"; }
   const CameraSet set = read_camera_file(dir + "/good.txt");
   ASSERT_EQ(set.size(), 2u);
   EXPECT_EQ(set.directions[0], Vec3(0, 0, 1));
   EXPECT_NEAR(set.directions[1].x, std::sqrt(0.5), 1e-15);
-  {
-    std::ofstream(dir + "/bad.txt") << "0 0 1\n0 0\n";
-  }
+  { std::ofstream(dir + "/bad.txt") << "0 0 1\n0 0\n"; }
   try {
     read_camera_file(dir + "/bad.txt");
     FAIL() << "expected IoError";
   } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find("bad.txt: line 2"), std::string::npos) << e.what();
   }
-  {
-    std::ofstream(dir + "/zero.txt") << "0 0 0\n";
-  }
+  { std::ofstream(dir + "/zero.txt") << "0 0 0\n"; }
   EXPECT_THROW(read_camera_file(dir + "/zero.txt"), IoError);
   EXPECT_THROW(read_camera_file(dir + "/missing.txt"), IoError);
   EXPECT_EQ(camera_set_from_spec("258").size(), 258u);

@@ -52,7 +52,8 @@ bool inside_box(const Mesh& m, const Face& f) {
 }
 
 std::size_t sphere_faces(const Mesh& m) {
-  return static_cast<std::size_t>(std::count_if(m.faces.begin(), m.faces.end(), [&](const Face& f) { return inside_box(m, f); }));
+  return static_cast<std::size_t>(
+      std::count_if(m.faces.begin(), m.faces.end(), [&](const Face& f) { return inside_box(m, f); }));
 }
 
 CompareOptions quick_options(std::vector<std::size_t> targets) {
@@ -71,8 +72,10 @@ TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
   const CompareResult r = compare_methods(scene.mesh, octahedron_cameras(2), *renderer, options);
   // V = 0 on the whole sphere, > 0 on the box.
   for (std::size_t f = 0; f < scene.mesh.num_faces(); ++f) {
-    if (f < scene.box_faces) EXPECT_GT(r.visibility.face[f], 0.2f) << f;
-    else EXPECT_EQ(r.visibility.face[f], 0.0f) << f;
+    if (f < scene.box_faces)
+      EXPECT_GT(r.visibility.face[f], 0.2f) << f;
+    else
+      EXPECT_EQ(r.visibility.face[f], 0.0f) << f;
   }
   ASSERT_EQ(r.qb.size(), 1u);
   ASSERT_EQ(r.vg.size(), 1u);
@@ -85,7 +88,7 @@ TEST(Compare, VgSpendsTheHiddenSphereAndKeepsTheBoxExteriorBetter) {
   // The box exterior (what every camera sees) is exact under VG, not under QB; the sealed
   // sphere never shows, so the image error favours VG too.
   EXPECT_LT(r.vg[0].distance.visible.max, 1e-12);  // rounding only: every box vertex kept in place
-  EXPECT_GT(r.qb[0].distance.visible.max, 1e-4);  // QB flattened some relief (0.04 peak to peak)
+  EXPECT_GT(r.qb[0].distance.visible.max, 1e-4);   // QB flattened some relief (0.04 peak to peak)
   EXPECT_LT(r.vg[0].distance.visible.rms, r.qb[0].distance.visible.rms);
   EXPECT_LE(r.vg[0].image.rms, r.qb[0].image.rms);
   EXPECT_GE(r.less_image_error_percent, 0.0);
@@ -208,7 +211,8 @@ TEST(Compare, LevelsBelowWhatTheMethodsCanReachAreReportedAsSuch) {
   for (int t = 0; t < 20; ++t) {
     const auto base = static_cast<VertexIndex>(m.num_vertices());
     const Vec3 at{1.5 + 0.5 * (t % 5), 0.5 * (t / 5), 0};
-    for (const Vec3& corner : {Vec3{0, 0, 0}, Vec3{0.2, 0, 0}, Vec3{0, 0.2, 0}, Vec3{0, 0, 0.2}}) m.positions.push_back(at + corner);
+    for (const Vec3& corner : {Vec3{0, 0, 0}, Vec3{0.2, 0, 0}, Vec3{0, 0.2, 0}, Vec3{0, 0, 0.2}})
+      m.positions.push_back(at + corner);
     for (const Face& f : {Face{0, 2, 1}, Face{0, 1, 3}, Face{0, 3, 2}, Face{1, 2, 3}})
       m.faces.push_back({base + f[0], base + f[1], base + f[2]});
   }

@@ -55,9 +55,10 @@ TEST(MeshStats, BowTieVertexHasTwoFans) {
 TEST(MeshStats, CountsMisorientedDuplicateDegenerateAndIsolated) {
   Mesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 0, 0}, {5, 5, 5}};
-  m.faces = {{0, 1, 2}, {1, 2, 3},  // edge 1-2 traversed 1->2 by both: misoriented
-             {0, 1, 2},             // duplicate of face 0 (edge 0-1 now has 2 faces)
-             {0, 1, 4}};            // collinear: zero area
+  m.faces = {{0, 1, 2},
+             {1, 2, 3},   // edge 1-2 traversed 1->2 by both: misoriented
+             {0, 1, 2},   // duplicate of face 0 (edge 0-1 now has 2 faces)
+             {0, 1, 4}};  // collinear: zero area
   const MeshStats s = analyze(m);
   EXPECT_EQ(s.duplicate_faces, 1u);
   EXPECT_EQ(s.degenerate_faces, 1u);

@@ -35,7 +35,8 @@ TEST(Orientation, AClosedSurfaceIsWoundOutwardWhateverFacesAreReversed) {
   for (std::size_t f = 0; f < cube.num_faces(); ++f) EXPECT_EQ(expected[f], canonical_face(cube.faces[f], false));
   for (int pattern = 0; pattern < 4; ++pattern) {
     std::vector<bool> flip(cube.num_faces());
-    for (std::size_t f = 0; f < flip.size(); ++f) flip[f] = pattern == 1 || (pattern == 2 && f % 2 == 0) || (pattern == 3 && f % 7 < 3);
+    for (std::size_t f = 0; f < flip.size(); ++f)
+      flip[f] = pattern == 1 || (pattern == 2 && f % 2 == 0) || (pattern == 3 && f % 7 < 3);
     const Mesh m = reversed_where(cube, flip);
     const OrientationPatches p = orientation_patches(m);
     ASSERT_EQ(p.patches(), 1u);
@@ -53,7 +54,8 @@ TEST(Orientation, OpenNonManifoldAndNonOrientableSurfacesAreNotClosed) {
   OrientationPatches p = orientation_patches(grid);
   ASSERT_EQ(p.patches(), 1u);
   EXPECT_FALSE(p.closed[0]);
-  for (std::size_t f = 0; f < grid.num_faces(); ++f) EXPECT_EQ(p.reversed[f] != 0, f == 3 ? !p.reversed[0] : p.reversed[0] != 0);
+  for (std::size_t f = 0; f < grid.num_faces(); ++f)
+    EXPECT_EQ(p.reversed[f] != 0, f == 3 ? !p.reversed[0] : p.reversed[0] != 0);
 
   // A cube with a third face on one edge: that edge joins no patch, so none is closed.
   Mesh fin = test::subdivided_cube(1);
@@ -85,7 +87,8 @@ TEST(Orientation, OpenNonManifoldAndNonOrientableSurfacesAreNotClosed) {
   // Two faces glued back to back close every edge but enclose nothing.
   Mesh sheet = test::grid(1);
   const std::size_t faces = sheet.num_faces();
-  for (std::size_t f = 0; f < faces; ++f) sheet.faces.push_back({sheet.faces[f][0], sheet.faces[f][2], sheet.faces[f][1]});
+  for (std::size_t f = 0; f < faces; ++f)
+    sheet.faces.push_back({sheet.faces[f][0], sheet.faces[f][2], sheet.faces[f][1]});
   p = orientation_patches(sheet);
   for (std::size_t k = 0; k < p.patches(); ++k) EXPECT_FALSE(p.closed[k]);
 }

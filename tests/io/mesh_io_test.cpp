@@ -21,10 +21,10 @@ Mesh awkward_mesh() {
   Mesh m = test::grid(2);
   const VertexIndex top = VertexIndex(m.positions.size());
   m.positions.push_back({0.5, 0.5, 1.0});
-  m.faces.push_back({0, 4, top});                        // third face on edge 0-4: non-manifold
-  m.faces.push_back(m.faces[0]);                         // duplicate
-  m.faces.push_back({0, 1, 2});                          // collinear: zero area
-  m.positions.push_back({7, 7, 7});                      // isolated
+  m.faces.push_back({0, 4, top});    // third face on edge 0-4: non-manifold
+  m.faces.push_back(m.faces[0]);     // duplicate
+  m.faces.push_back({0, 1, 2});      // collinear: zero area
+  m.positions.push_back({7, 7, 7});  // isolated
   for (std::size_t v = 0; v < m.num_vertices(); ++v) m.vertex_quality.push_back(0.25f * float(v));
   for (std::size_t f = 0; f < m.num_faces(); ++f) m.face_quality.push_back(1.0f / float(f + 1));
   return m;
@@ -149,8 +149,9 @@ TEST(MeshIo, ObjNegativeIndicesSlashFormsAndPolygons) {
 }
 
 TEST(MeshIo, OffWithColoursAndComments) {
-  const std::string off = "COFF\n# comment\n4 2 0\n0 0 0 255 0 0 255\n1 0 0 1 2 3 4\n1 1 0 1 2 3 4\n0 1 0 1 2 3 4\n"
-                          "4 0 1 2 3 255 0 0\n3 0 1 3\n";
+  const std::string off =
+      "COFF\n# comment\n4 2 0\n0 0 0 255 0 0 255\n1 0 0 1 2 3 4\n1 1 0 1 2 3 4\n0 1 0 1 2 3 4\n"
+      "4 0 1 2 3 255 0 0\n3 0 1 3\n";
   const Mesh m = read_mesh_from_bytes(off, Format::off, "t.off");
   EXPECT_EQ(m.num_faces(), 3u);
 }

@@ -25,13 +25,13 @@ double brute_force_squared_distance(const Mesh& m, const Vec3& p) {
 // Every Voronoi region of a triangle against hand-computed distances.
 TEST(ClosestTriangleIndex, PointTriangleDistanceInEachRegion) {
   const Vec3 a{0, 0, 0}, ab{2, 0, 0}, ac{0, 2, 0};
-  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({0.5, 0.5, 3}, a, ab, ac), 9.0);   // interior
-  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({-1, -1, 0}, a, ab, ac), 2.0);     // vertex a
-  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({3, -1, 0}, a, ab, ac), 2.0);      // vertex b
-  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({-1, 3, 0}, a, ab, ac), 2.0);      // vertex c
-  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({1, -2, 0}, a, ab, ac), 4.0);      // edge ab
-  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({-2, 1, 1}, a, ab, ac), 5.0);      // edge ac
-  EXPECT_NEAR(point_triangle_squared_distance({2, 2, 0}, a, ab, ac), 2.0, 1e-15);     // edge bc
+  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({0.5, 0.5, 3}, a, ab, ac), 9.0);  // interior
+  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({-1, -1, 0}, a, ab, ac), 2.0);    // vertex a
+  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({3, -1, 0}, a, ab, ac), 2.0);     // vertex b
+  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({-1, 3, 0}, a, ab, ac), 2.0);     // vertex c
+  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({1, -2, 0}, a, ab, ac), 4.0);     // edge ab
+  EXPECT_DOUBLE_EQ(point_triangle_squared_distance({-2, 1, 1}, a, ab, ac), 5.0);     // edge ac
+  EXPECT_NEAR(point_triangle_squared_distance({2, 2, 0}, a, ab, ac), 2.0, 1e-15);    // edge bc
 }
 
 // The tree must give exactly the brute-force answer, whatever the hint: the hint only

@@ -75,7 +75,7 @@ TEST(SurfaceDistance, HistogramCoversTheAreaAndEdgesAddToTheMaximumOnly) {
   double total = 0;
   for (double h : d.a_to_b.histogram) total += h;
   EXPECT_NEAR(total, 1.0, 1e-9);
-  EXPECT_GT(d.a_to_b.histogram.back(), 0.0);  // the bin holding the maximum
+  EXPECT_GT(d.a_to_b.histogram.back(), 0.0);           // the bin holding the maximum
   EXPECT_GT(d.a_to_b.samples, d.a_to_b.face_samples);  // vertices and edges were sampled too
 }
 
@@ -104,7 +104,7 @@ TEST(SurfaceDistance, VisibilityWeightingFollowsV) {
   EXPECT_NEAR(half.visible.max, 0.25, 1e-9);
   EXPECT_GT(half.a_to_b.max, 0.9);
   EXPECT_THROW(surface_distance(test::grid(2), b, options), InvalidMeshError);  // not one V per face of A
-  a.face_quality.assign(a.num_faces(), 0.0f);  // quality is not V: it changes nothing
+  a.face_quality.assign(a.num_faces(), 0.0f);                                   // quality is not V: it changes nothing
   EXPECT_DOUBLE_EQ(surface_distance(a, b, options).visible.mean, half.visible.mean);
 }
 

@@ -89,16 +89,7 @@ BitfieldSet make_set(const Mesh& mesh, const PatchPartition& partition, bool per
   RenderOptions render;
   render.resolution = resolution;
   auto renderer = make_raster_renderer(render);
-  BitfieldSet set;
-  set.mesh_hash = hash_mesh(mesh);
-  set.faces = mesh.num_faces();
-  set.per_face = per_face;
-  set.resolution = static_cast<std::uint32_t>(resolution);
-  const BoundingBox box = bounding_box(mesh);
-  set.center = box.center();
-  set.radius = view_radius(box);
-  set.cameras = cameras;
-  if (!per_face) set.face_patch = partition.face_patch;
+  BitfieldSet set = make_bitfield_set(mesh, partition, per_face, cameras, resolution, options);
   set.bits = record_bitfields(mesh, partition, cameras, *renderer, options);
   return set;
 }
@@ -194,7 +185,8 @@ TEST(SampleSelection, ConvexHullOfArbitrarySetsFindsTheSurroundingFace) {
     const SampleChoice choice = selector.select(d);
     ASSERT_GE(choice.count, 4u);
     ASSERT_LE(choice.count, 6u);
-    const std::set<std::uint32_t> distinct(choice.samples.begin(), choice.samples.begin() + static_cast<std::ptrdiff_t>(choice.count));
+    const std::set<std::uint32_t> distinct(choice.samples.begin(),
+                                           choice.samples.begin() + static_cast<std::ptrdiff_t>(choice.count));
     EXPECT_EQ(distinct.size(), choice.count);
     six += choice.count == 6;
   }
@@ -218,7 +210,9 @@ TEST(Reconstruction, ASampleDirectionGetsEverythingThatSampleSaw) {
     for (std::size_t c = 0; c < cameras.size(); ++c) {
       const std::vector<std::uint32_t> units = reconstructor.units(cameras.directions[c]);
       for (std::size_t u = 0; u < set.bits.units; ++u) {
-        if (set.bits.test(c, u)) { ASSERT_TRUE(std::binary_search(units.begin(), units.end(), u)) << cameras.name << c; }
+        if (set.bits.test(c, u)) {
+          ASSERT_TRUE(std::binary_search(units.begin(), units.end(), u)) << cameras.name << c;
+        }
       }
     }
     // Precomputed cells answer the same.
@@ -240,7 +234,9 @@ TEST(Reconstruction, ConvexMeshMissesNoPixelAt258Samples) {
   const PatchStudy study = run_patch_study(sphere, *renderer, nullptr, options);
   ASSERT_EQ(study.pixels.size(), 3u);
   for (const PixelCheck& check : study.pixels) {
-    if (check.unit == "patches") { EXPECT_EQ(check.differing_pixels, 0u) << check.patches << " patches"; }
+    if (check.unit == "patches") {
+      EXPECT_EQ(check.differing_pixels, 0u) << check.patches << " patches";
+    }
     EXPECT_GT(check.mesh_pixels, 30u * 10000u);
   }
   // Culling grows with samples (a sphere: about half the faces face away).

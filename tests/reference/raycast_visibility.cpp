@@ -78,7 +78,8 @@ RaycastVisibility raycast_visibility(const Mesh& mesh, const CameraSet& cameras,
   const OrientationPatches patches = orientation_patches(mesh);
   Mesh wound{mesh.positions, {}, {}, {}};
   wound.faces.resize(input_faces);
-  for (std::size_t f = 0; f < input_faces; ++f) wound.faces[f] = canonical_face(mesh.faces[f], patches.reversed[f] != 0);
+  for (std::size_t f = 0; f < input_faces; ++f)
+    wound.faces[f] = canonical_face(mesh.faces[f], patches.reversed[f] != 0);
   const auto refined = refine_long_edges(wound, options.max_edge_fraction * 2 * radius, 200'000'000);
   const Mesh& work = refined ? refined->mesh : wound;
   auto parent_of = [&](std::size_t t) { return refined ? refined->input_face[t] : t; };

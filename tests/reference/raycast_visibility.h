@@ -24,17 +24,17 @@
 namespace visimp::reference {
 
 struct RaycastOptions {
-  int resolution = 1024;            ///< rays per image side
-  double max_edge_fraction = 0.008; ///< of the bounding-sphere diameter
+  int resolution = 1024;             ///< rays per image side
+  double max_edge_fraction = 0.008;  ///< of the bounding-sphere diameter
   /// A vertex is occluded only by a hit more than this fraction of the diameter in front of it.
   double vertex_epsilon = 1e-6;
-  bool vertex_rule = true;          ///< off: only faces a ray hits are seen
-  unsigned threads = 0;             ///< 0 = one per hardware thread
+  bool vertex_rule = true;  ///< off: only faces a ray hits are seen
+  unsigned threads = 0;     ///< 0 = one per hardware thread
 };
 
 struct RaycastVisibility {
-  std::vector<float> face;        ///< V per input face
-  double mesh = 0;                ///< V(M), area-weighted
+  std::vector<float> face;          ///< V per input face
+  double mesh = 0;                  ///< V(M), area-weighted
   double hidden_area_fraction = 0;  ///< area with V = 0 (never seen)
   std::size_t refined_faces = 0;
   double seconds = 0;
@@ -44,9 +44,9 @@ RaycastVisibility raycast_visibility(const Mesh& mesh, const CameraSet& cameras,
 
 /// How visimp's V compares with a reference, per face and by area.
 struct VisibilityAgreement {
-  double mean_abs_difference = 0;   ///< area-weighted mean |ΔV| over faces
-  double mesh_difference = 0;       ///< V(M) − V_ref(M)
-  double hidden_area_low = 0;       ///< of the area the reference never sees, the share with V ≤ 0.02
+  double mean_abs_difference = 0;  ///< area-weighted mean |ΔV| over faces
+  double mesh_difference = 0;      ///< V(M) − V_ref(M)
+  double hidden_area_low = 0;      ///< of the area the reference never sees, the share with V ≤ 0.02
 };
 VisibilityAgreement compare_visibility(const Mesh& mesh, const std::vector<float>& v, const RaycastVisibility& ref);
 

@@ -41,8 +41,10 @@ TEST(RaycastReference, VisimpAgreesOnScansAndCadParts) {
   std::vector<std::string> paths = {test::bundled_mesh("bunny.ply"), test::bundled_mesh("kicad_esp_wroom02.ply")};
   for (const char* name : {"kicad_cap_snapin_d40.ply", "kicad_dsub62_male.ply"}) {
     const std::string path = test::shared_mesh(name);
-    if (std::ifstream(path)) paths.push_back(path);
-    else std::cout << "[ note ] " << path << " is absent (../shared/meshes): not compared\n";
+    if (std::ifstream(path))
+      paths.push_back(path);
+    else
+      std::cout << "[ note ] " << path << " is absent (../shared/meshes): not compared\n";
   }
   const auto renderer = make_raster_renderer({480, 0});
   for (const std::string& path : paths) {

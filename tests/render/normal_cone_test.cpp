@@ -70,7 +70,8 @@ TEST(VertexCones, NeverSkipVerticesOfTwoSidedFaces) {
   for (std::size_t t = scene.culled_faces; t < mesh.faces.size(); ++t) {
     for (const VertexIndex v : mesh.faces[t]) two_sided[v] = true;
   }
-  for (const std::array<float, 3>& d : std::vector<std::array<float, 3>>{{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-1, 0, 0}}) {
+  for (const std::array<float, 3>& d :
+       std::vector<std::array<float, 3>>{{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-1, 0, 0}}) {
     for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
       if (two_sided[v]) {
         EXPECT_FALSE(scene.vertex_cones[v].all_back_facing(d)) << v;

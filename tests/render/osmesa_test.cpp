@@ -46,7 +46,8 @@ TEST(Osmesa, AgreesWithTheRasterizerOnRealMeshes) {
       }
     }
     std::printf("%s: %.6f of (face, camera) pairs agree; %.6f of the visible ones\n", file,
-                static_cast<double>(agree) / static_cast<double>(pairs), static_cast<double>(both) / static_cast<double>(either));
+                static_cast<double>(agree) / static_cast<double>(pairs),
+                static_cast<double>(both) / static_cast<double>(either));
     EXPECT_GE(static_cast<double>(agree) / static_cast<double>(pairs), 0.999) << file;
     // Stricter: of the pairs either backend calls visible, nearly all are called so by both.
     EXPECT_GE(static_cast<double>(both) / static_cast<double>(either), 0.995) << file;

@@ -52,7 +52,8 @@ TEST(Raster, PixelCentreOnASharedEdgeHasOneOwner) {
   EXPECT_EQ(a + b, covered(both));
   EXPECT_EQ(count_id(both, 1) + count_id(both, 2), covered(both));
   // The diagonal's centres inside the square go to one side only: the counts differ by them.
-  const std::size_t side = static_cast<std::size_t>(covered(both) > 0 ? std::lround(std::sqrt(double(covered(both)))) : 0);
+  const std::size_t side =
+      static_cast<std::size_t>(covered(both) > 0 ? std::lround(std::sqrt(double(covered(both)))) : 0);
   EXPECT_EQ(a > b ? a - b : b - a, side);
 }
 

@@ -37,7 +37,8 @@ TEST(Quadric, NearlySingularPlacementStaysNearTheEdge) {
   // Two planes 1e-7 rad apart: the exact minimiser of A x = -b lies ~1e6 away along their
   // near-common line. The rank-revealing solve must not go there.
   const double e = 1e-7;
-  const Quadric q = Quadric::plane({0, 0, 1}, {0, 0, 0.01}, 1) + Quadric::plane({0, std::sin(e), std::cos(e)}, {0, 0, 0}, 1);
+  const Quadric q =
+      Quadric::plane({0, 0, 1}, {0, 0, 0.01}, 1) + Quadric::plane({0, std::sin(e), std::cos(e)}, {0, 0, 0}, 1);
   const Placement p = place(q, {0, 0, 0}, {0, 1, 0});
   EXPECT_LT(norm(p.position - Vec3{0, 0.5, 0}), 2.0);
   EXPECT_TRUE(is_finite(p.position));

@@ -92,8 +92,9 @@ TEST(Simplify, OpenGridKeepsItsBoundaryOutline) {
   loose.boundary_weight = 0;
   const Simplified l = simplify(g, loose);
   const BoundingBox lb = analyze(l.mesh).bbox;
-  EXPECT_GT(std::max({outline_deviation(l.mesh, 10), std::abs(lb.min.x), std::abs(lb.max.x - 10),
-                      std::abs(lb.min.y), std::abs(lb.max.y - 10)}), 1e-2);
+  EXPECT_GT(std::max({outline_deviation(l.mesh, 10), std::abs(lb.min.x), std::abs(lb.max.x - 10), std::abs(lb.min.y),
+                      std::abs(lb.max.y - 10)}),
+            1e-2);
 }
 
 TEST(Simplify, FrozenBoundaryNeverMoves) {
@@ -233,8 +234,8 @@ TEST(Simplify, SliversAndZeroAreaFacesGiveFiniteOutput) {
     if (p.x == 3) p.x = 2 + 1e-9;
   const VertexIndex base = VertexIndex(g.positions.size());
   g.positions.push_back({0, -1, 0});
-  g.positions.push_back({0, -1, 0});  // coincident with the previous one
-  g.faces.push_back({0, 1, base});    // a proper face below the grid
+  g.positions.push_back({0, -1, 0});       // coincident with the previous one
+  g.faces.push_back({0, 1, base});         // a proper face below the grid
   g.faces.push_back({base, 1, base + 1});  // zero area: two coincident corners
   const Simplified s = simplify_to(g, 10);
   expect_all_finite(s.mesh);
@@ -281,7 +282,8 @@ TEST(Simplify, DuplicateFacesAndAFourFaceEdgeAreKeptLocked) {
 
 using Kernel = CGAL::Simple_cartesian<double>;
 using Triangle = Kernel::Triangle_3;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::iterator>>>;
+using Tree =
+    CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::iterator>>>;
 
 // Fraction of output faces whose normal points against the input surface's normal at the
 // closest point: a flipped (folded-over) face shows up here.
@@ -290,7 +292,9 @@ double flipped_fraction(const Mesh& input, const Mesh& output) {
   std::vector<Vec3> normals;
   for (const Face& f : input.faces) {
     if (is_degenerate(input, f)) continue;
-    auto pt = [&](VertexIndex v) { return Kernel::Point_3(input.positions[v].x, input.positions[v].y, input.positions[v].z); };
+    auto pt = [&](VertexIndex v) {
+      return Kernel::Point_3(input.positions[v].x, input.positions[v].y, input.positions[v].z);
+    };
     triangles.emplace_back(pt(f[0]), pt(f[1]), pt(f[2]));
     normals.push_back(face_normal_unnormalized(input, f));
   }

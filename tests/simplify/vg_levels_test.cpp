@@ -158,7 +158,8 @@ TEST(VisibilityGuided, CreaseVisibilityRaisesTheFacesAlongAVisibleRim) {
       if (flat.positions[a].z != top || flat.positions[b].z != top) continue;
       for (std::size_t g = 0; g < cube.num_faces(); ++g) {
         const Face& other = cube.faces[g];
-        const bool shares = g != f && std::count(other.begin(), other.end(), a) && std::count(other.begin(), other.end(), b);
+        const bool shares =
+            g != f && std::count(other.begin(), other.end(), a) && std::count(other.begin(), other.end(), b);
         if (shares) raised[f] = std::max(raised[f], visibility[g]);
       }
       ++rim_faces;
@@ -188,7 +189,8 @@ TEST(VisibilityGuided, RejectsMissingOrOutOfRangeVisibility) {
 // Every level of one run equals a separate run to its count: on a closed mesh at odd
 // targets (the level ends one below and is finished on a copy), on an open one (boundary
 // collapses can hit the target exactly), and with VG weights.
-void expect_levels_equal_separate_runs(const Mesh& m, const SimplifyOptions& base, const std::vector<std::size_t>& targets) {
+void expect_levels_equal_separate_runs(const Mesh& m, const SimplifyOptions& base,
+                                       const std::vector<std::size_t>& targets) {
   const std::vector<Simplified> levels = simplify_levels(m, base, targets);
   ASSERT_EQ(levels.size(), targets.size());
   for (std::size_t i = 0; i < targets.size(); ++i) {

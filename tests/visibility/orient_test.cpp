@@ -50,7 +50,8 @@ TEST(Orient, LeavesFacesSeenFromBothSidesAndWindsHiddenOnesLikeTheirSurface) {
     const auto offset = static_cast<VertexIndex>(scene.num_vertices());
     for (const Vec3& p : m.positions) scene.positions.push_back(p * scale + at);
     for (const Face& f : m.faces) {
-      scene.faces.push_back(inward ? Face{f[0] + offset, f[2] + offset, f[1] + offset} : Face{f[0] + offset, f[1] + offset, f[2] + offset});
+      scene.faces.push_back(inward ? Face{f[0] + offset, f[2] + offset, f[1] + offset}
+                                   : Face{f[0] + offset, f[1] + offset, f[2] + offset});
     }
   };
   add(test::subdivided_cube(4), {10, 0, 0}, 4.0, false);

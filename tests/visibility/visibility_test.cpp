@@ -173,7 +173,7 @@ TEST(Visibility, MergedSlicesEqualOneRun) {
 }
 
 TEST(Refinement, SplitsUntilEdgesAreShortAndKeepsTheSurface) {
-  const Mesh cube = test::subdivided_cube(1);  // 12 faces, edges 1 and √2
+  const Mesh cube = test::subdivided_cube(1);                    // 12 faces, edges 1 and √2
   EXPECT_FALSE(refine_long_edges(cube, 2.0, 1000).has_value());  // nothing to do: skipped
   const auto refined = refine_long_edges(cube, 0.3, 100000);
   ASSERT_TRUE(refined.has_value());
@@ -186,7 +186,8 @@ TEST(Refinement, SplitsUntilEdgesAreShortAndKeepsTheSurface) {
   EXPECT_NEAR(after.area, before.area, 1e-12);
   // Each input face's sub-faces add up to its area.
   std::vector<double> area(cube.num_faces(), 0.0);
-  for (std::size_t t = 0; t < m.num_faces(); ++t) area[refined->input_face[t]] += 0.5 * norm(face_normal_unnormalized(m, m.faces[t]));
+  for (std::size_t t = 0; t < m.num_faces(); ++t)
+    area[refined->input_face[t]] += 0.5 * norm(face_normal_unnormalized(m, m.faces[t]));
   for (double a : area) EXPECT_NEAR(a, 0.5, 1e-12);
   EXPECT_THROW(refine_long_edges(cube, 1e-3, 1000), UsageError);  // over budget
 }

@@ -95,7 +95,8 @@ Mesh box_with_slab_under_the_lid(double gap) {
   for (Vec3& p : scene.positions) p = p * 4.0 - Vec3{2, 2, 2};
   Mesh slab = test::subdivided_cube(8);
   const auto offset = static_cast<VertexIndex>(scene.num_vertices());
-  for (const Vec3& p : slab.positions) scene.positions.push_back({p.x * 3 - 1.5, p.y * 3 - 1.5, 2 - gap - 0.1 * (1 - p.z)});
+  for (const Vec3& p : slab.positions)
+    scene.positions.push_back({p.x * 3 - 1.5, p.y * 3 - 1.5, 2 - gap - 0.1 * (1 - p.z)});
   for (const Face& f : slab.faces) scene.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
   return scene;
 }

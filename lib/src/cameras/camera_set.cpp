@@ -24,8 +24,7 @@ bool left_of(const Vec3& u, const Vec3& v, const Vec3& p) { return dot(p, cross(
 
 SphereTessellation::SphereTessellation(int level) {
   if (level < 0 || level > kMaxLevel) {
-    throw UsageError("octahedron level " + std::to_string(level) + " is outside 0.." +
-                     std::to_string(kMaxLevel));
+    throw UsageError("octahedron level " + std::to_string(level) + " is outside 0.." + std::to_string(kMaxLevel));
   }
   vertices_ = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   // Root face r covers the octant with sign bits (x<0, y<0, z<0) = (r>>2, r>>1, r) & 1, so
@@ -90,9 +89,7 @@ bool SphereTessellation::contains(std::uint32_t face, const Vec3& p) const {
          dot(p, cross(c, a)) >= slack;
 }
 
-std::size_t octahedron_camera_count(int level) {
-  return (std::size_t{4} << (2 * level)) + 2;
-}
+std::size_t octahedron_camera_count(int level) { return (std::size_t{4} << (2 * level)) + 2; }
 
 CameraSet octahedron_cameras(int level) {
   SphereTessellation tessellation(level);
@@ -140,8 +137,7 @@ CameraSet parse_camera_list(const std::string& text, const std::string& path) {
     }
     const double length = norm(d);
     if (!std::isfinite(length) || length == 0.0) {
-      throw IoError(path, "line " + std::to_string(line_number) +
-                              ": camera direction must be finite and non-zero");
+      throw IoError(path, "line " + std::to_string(line_number) + ": camera direction must be finite and non-zero");
     }
     set.directions.push_back(d / length);
   }

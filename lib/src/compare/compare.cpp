@@ -37,7 +37,7 @@ class StageProgress final : public RenderObserver, public SimplifyObserver {
   std::string stage_;
 };
 
-std::vector<CompareLevel> run_method(const Mesh& input_with_v, SimplifyOptions options,
+std::vector<CompareLevel> run_method(const Mesh& input_with_v, const SimplifyOptions& options,
                                      const std::vector<std::size_t>& targets, StageProgress& progress,
                                      double& seconds) {
   const auto start = std::chrono::steady_clock::now();
@@ -64,7 +64,8 @@ void check_options(const CompareOptions& o) {
   }
   for (std::size_t t : o.targets)
     if (t < 4) throw OptionError(&o.targets, "CompareOptions::targets", "must all be >= 4 faces");
-  if (o.tie_noise_runs > 100) throw OptionError(&o.tie_noise_runs, "CompareOptions::tie_noise_runs", "must be in 0..100 runs");
+  if (o.tie_noise_runs > 100)
+    throw OptionError(&o.tie_noise_runs, "CompareOptions::tie_noise_runs", "must be in 0..100 runs");
   check_options(o.visibility);
 }
 
@@ -128,7 +129,8 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   }
 
   SurfaceDistanceOptions metro;
-  metro.samples = options.metro_samples ? options.metro_samples : std::min<std::size_t>(10 * input.num_faces(), 2'000'000);
+  metro.samples =
+      options.metro_samples ? options.metro_samples : std::min<std::size_t>(10 * input.num_faces(), 2'000'000);
   metro.face_visibility = r.visibility.face;
   const std::size_t total = r.qb.size() + r.vg.size();
   std::size_t done = 0;
@@ -194,10 +196,14 @@ std::string unreached_levels_note(const CompareResult& r) {
 
 const char* to_string(TieNoiseVerdict verdict) {
   switch (verdict) {
-    case TieNoiseVerdict::not_measured: return "not_measured";
-    case TieNoiseVerdict::above: return "above";
-    case TieNoiseVerdict::inside: return "inside";
-    case TieNoiseVerdict::below: return "below";
+    case TieNoiseVerdict::not_measured:
+      return "not_measured";
+    case TieNoiseVerdict::above:
+      return "above";
+    case TieNoiseVerdict::inside:
+      return "inside";
+    case TieNoiseVerdict::below:
+      return "below";
   }
   return "?";
 }
@@ -216,10 +222,17 @@ TieNoiseCounts count_tie_noise_verdicts(const CompareResult& r) {
   TieNoiseCounts counts;
   for (std::size_t i = 0; i < r.targets.size(); ++i) {
     switch (tie_noise_verdict(r, i)) {
-      case TieNoiseVerdict::above: ++counts.above; break;
-      case TieNoiseVerdict::inside: ++counts.inside; break;
-      case TieNoiseVerdict::below: ++counts.below; break;
-      case TieNoiseVerdict::not_measured: break;
+      case TieNoiseVerdict::above:
+        ++counts.above;
+        break;
+      case TieNoiseVerdict::inside:
+        ++counts.inside;
+        break;
+      case TieNoiseVerdict::below:
+        ++counts.below;
+        break;
+      case TieNoiseVerdict::not_measured:
+        break;
     }
   }
   return counts;
@@ -228,7 +241,8 @@ TieNoiseCounts count_tie_noise_verdicts(const CompareResult& r) {
 std::string table2_row(const CompareResult& r, const std::string& name) {
   std::ostringstream s;
   s << std::fixed;
-  s << "| model | faces | V(M) | visibility s | VG simplification s | QB simplification s | less image error with VG |\n"
+  s << "| model | faces | V(M) | visibility s | VG simplification s | QB simplification s | less image error with VG "
+       "|\n"
     << "|---|---|---|---|---|---|---|\n"
     << "| " << name << " | " << r.faces_in << " | " << std::setprecision(3) << r.visibility.mesh << " | "
     << std::setprecision(2) << r.seconds_visibility << " | " << r.seconds_vg << " | " << r.seconds_qb << " | "

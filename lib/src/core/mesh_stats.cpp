@@ -25,9 +25,9 @@ bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
 namespace {
 
 struct HalfEdgeKey {
-  std::uint64_t key;        // (min << 32) | max
-  std::uint32_t corner;     // face * 3 + k, the corner where the directed edge starts
-  bool forward;             // start < end
+  std::uint64_t key;     // (min << 32) | max
+  std::uint32_t corner;  // face * 3 + k, the corner where the directed edge starts
+  bool forward;          // start < end
   bool operator<(const HalfEdgeKey& o) const { return key < o.key || (key == o.key && corner < o.corner); }
 };
 
@@ -54,8 +54,10 @@ MeshStats analyze(const Mesh& mesh) {
       const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
       half_edges.push_back({(lo << 32) | hi, static_cast<std::uint32_t>(f * 3 + k), a < b});
     }
-    if (is_degenerate(mesh, face)) ++s.degenerate_faces;
-    else s.area += 0.5 * norm(face_normal_unnormalized(mesh, face));
+    if (is_degenerate(mesh, face))
+      ++s.degenerate_faces;
+    else
+      s.area += 0.5 * norm(face_normal_unnormalized(mesh, face));
   }
   std::sort(half_edges.begin(), half_edges.end());
 
@@ -71,8 +73,10 @@ MeshStats analyze(const Mesh& mesh) {
     while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
     const std::size_t count = j - i;
     ++s.edges;
-    if (count == 1) ++s.boundary_edges;
-    else if (count > 2) ++s.non_manifold_edges;
+    if (count == 1)
+      ++s.boundary_edges;
+    else if (count > 2)
+      ++s.non_manifold_edges;
     else {
       if (half_edges[i].forward == half_edges[i + 1].forward) ++s.misoriented_edges;
       const std::uint32_t f0 = half_edges[i].corner / 3, f1 = half_edges[i + 1].corner / 3;
@@ -90,7 +94,8 @@ MeshStats analyze(const Mesh& mesh) {
   for (std::uint32_t c = 0; c < nf * 3; ++c) {
     const VertexIndex v = mesh.faces[c / 3][c % 3];
     const std::uint32_t root = corner_sets.find(c);
-    if (first_root[v] == UINT32_MAX) first_root[v] = root;
+    if (first_root[v] == UINT32_MAX)
+      first_root[v] = root;
     else if (first_root[v] != root && !flagged[v]) {
       // A repeated index inside one face gives that vertex two corners of the same face;
       // they count as one fan only if joined, which is the honest answer for such a face.

@@ -35,27 +35,44 @@ std::string to_text(double v) {
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help) {
   std::string what = flag;
-  return {std::move(flag), std::move(value_name), std::move(help), std::to_string(field),
-          [&field, what](std::string_view t) { field = parse_count(t, what); }, {}, &field};
+  return {std::move(flag),
+          std::move(value_name),
+          std::move(help),
+          std::to_string(field),
+          [&field, what](std::string_view t) { field = parse_count(t, what); },
+          {},
+          &field};
 }
 
 OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help) {
   std::string what = flag;
-  return {std::move(flag), std::move(value_name), std::move(help), to_text(field),
-          [&field, what](std::string_view t) { field = parse_double(t, what); }, {}, &field};
+  return {std::move(flag),
+          std::move(value_name),
+          std::move(help),
+          to_text(field),
+          [&field, what](std::string_view t) { field = parse_double(t, what); },
+          {},
+          &field};
 }
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help) {
-  return {std::move(flag), std::move(value_name), std::move(help), field,
-          [&field](std::string_view t) { field = std::string(t); }, {}, &field};
+  return {std::move(flag),
+          std::move(value_name),
+          std::move(help),
+          field,
+          [&field](std::string_view t) { field = std::string(t); },
+          {},
+          &field};
 }
 
 OptionSpec switch_spec(std::string flag, bool& field, std::string help) {
-  return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = true; }, {}, &field};
+  return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = true; }, {},
+          &field};
 }
 
 OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help) {
-  return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = false; }, {}, &field};
+  return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = false; }, {},
+          &field};
 }
 
 }  // namespace visimp

@@ -22,15 +22,15 @@ ValidationReport validate(const Mesh& mesh) {
     for (VertexIndex v : mesh.faces[f]) {
       if (v >= nv) {
         ++r.out_of_range_indices;
-        note("face " + std::to_string(f) + " has vertex index " + std::to_string(v) + " >= " +
-             std::to_string(nv) + " vertices");
+        note("face " + std::to_string(f) + " has vertex index " + std::to_string(v) + " >= " + std::to_string(nv) +
+             " vertices");
       }
     }
   }
   if (!mesh.vertex_quality.empty() && mesh.vertex_quality.size() != nv) {
     ++r.quality_size_mismatches;
-    note("vertex quality has " + std::to_string(mesh.vertex_quality.size()) + " values for " +
-         std::to_string(nv) + " vertices");
+    note("vertex quality has " + std::to_string(mesh.vertex_quality.size()) + " values for " + std::to_string(nv) +
+         " vertices");
   }
   if (!mesh.face_quality.empty() && mesh.face_quality.size() != mesh.faces.size()) {
     ++r.quality_size_mismatches;

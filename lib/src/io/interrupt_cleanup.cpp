@@ -113,7 +113,8 @@ InterruptCleanup::InterruptCleanup(const std::string& pattern, Kind kind) {
     }
   }
   std::string name = pattern;  // no free slot: created unguarded
-  if (!create_in(name.data(), kind)) throw std::system_error(errno, std::generic_category(), "cannot create " + pattern);
+  if (!create_in(name.data(), kind))
+    throw std::system_error(errno, std::generic_category(), "cannot create " + pattern);
   path_ = name;
 }
 

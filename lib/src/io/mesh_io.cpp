@@ -23,7 +23,8 @@ namespace visimp {
 
 std::optional<Format> parse_format(std::string_view name) {
   std::string lower(name);
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (lower == "ply") return Format::ply;
   if (lower == "obj") return Format::obj;
   if (lower == "off") return Format::off;
@@ -33,10 +34,14 @@ std::optional<Format> parse_format(std::string_view name) {
 
 const char* format_name(Format format) {
   switch (format) {
-    case Format::ply: return "ply";
-    case Format::obj: return "obj";
-    case Format::off: return "off";
-    case Format::stl: return "stl";
+    case Format::ply:
+      return "ply";
+    case Format::obj:
+      return "obj";
+    case Format::off:
+      return "off";
+    case Format::stl:
+      return "stl";
   }
   return "?";
 }
@@ -44,7 +49,8 @@ const char* format_name(Format format) {
 Format format_from_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   const auto format = ext.empty() ? std::nullopt : parse_format(ext.substr(1));
-  if (!format) throw UsageError(path + ": unknown mesh format '" + ext + "' (use .ply, .obj, .off or .stl, or name the format)");
+  if (!format)
+    throw UsageError(path + ": unknown mesh format '" + ext + "' (use .ply, .obj, .off or .stl, or name the format)");
   return *format;
 }
 
@@ -67,10 +73,18 @@ Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::stri
   if (bytes.empty()) throw IoError(name, "file is empty");
   Mesh mesh;
   switch (format) {
-    case Format::ply: mesh = read_ply(bytes, name); break;
-    case Format::obj: mesh = read_obj(bytes, name); break;
-    case Format::off: mesh = read_off(bytes, name); break;
-    case Format::stl: mesh = read_stl(bytes, name); break;
+    case Format::ply:
+      mesh = read_ply(bytes, name);
+      break;
+    case Format::obj:
+      mesh = read_obj(bytes, name);
+      break;
+    case Format::off:
+      mesh = read_off(bytes, name);
+      break;
+    case Format::stl:
+      mesh = read_stl(bytes, name);
+      break;
   }
   const ValidationReport report = validate(mesh);
   if (!report.ok()) throw IoError(name, report.first_problem);
@@ -171,10 +185,18 @@ Mesh read_mesh(const std::string& path, std::optional<Format> format, FormatChoi
 
 void write_mesh(const Mesh& mesh, std::ostream& out, Format format, const WriteOptions& options) {
   switch (format) {
-    case Format::ply: write_ply(mesh, out, options); break;
-    case Format::obj: write_obj(mesh, out); break;
-    case Format::off: write_off(mesh, out); break;
-    case Format::stl: write_stl(mesh, out, options.binary); break;
+    case Format::ply:
+      write_ply(mesh, out, options);
+      break;
+    case Format::obj:
+      write_obj(mesh, out);
+      break;
+    case Format::off:
+      write_off(mesh, out);
+      break;
+    case Format::stl:
+      write_stl(mesh, out, options.binary);
+      break;
   }
 }
 

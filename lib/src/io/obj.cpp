@@ -31,7 +31,8 @@ Mesh read_obj(std::string_view text, const std::string& name) {
         // OBJ indices are 1-based; negative ones count back from the latest vertex.
         const std::int64_t resolved = idx > 0 ? idx - 1 : count + idx;
         if (idx == 0 || resolved < 0 || resolved >= count)
-          sc.fail("face index " + std::string(ref) + " is out of range (" + std::to_string(count) + " vertices so far)");
+          sc.fail("face index " + std::string(ref) + " is out of range (" + std::to_string(count) +
+                  " vertices so far)");
         polygon.push_back(static_cast<std::uint32_t>(resolved));
       }
       detail::append_fan(polygon, mesh.faces);

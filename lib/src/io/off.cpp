@@ -60,7 +60,8 @@ Mesh read_off(std::string_view text, const std::string& name) {
     polygon.clear();
     for (std::int64_t k = 0; k < n; ++k) {
       const std::int64_t idx = sc.to_int(tok[static_cast<std::size_t>(k) + 1], "a face index");
-      if (idx < 0 || idx >= nv) sc.fail("face index " + std::to_string(idx) + " is out of range (" + std::to_string(nv) + " vertices)");
+      if (idx < 0 || idx >= nv)
+        sc.fail("face index " + std::to_string(idx) + " is out of range (" + std::to_string(nv) + " vertices)");
       polygon.push_back(static_cast<std::uint32_t>(idx));
     }
     detail::append_fan(polygon, mesh.faces);

@@ -25,10 +25,18 @@ enum class Scalar : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
 
 std::size_t scalar_size(Scalar s) {
   switch (s) {
-    case Scalar::i8: case Scalar::u8: return 1;
-    case Scalar::i16: case Scalar::u16: return 2;
-    case Scalar::i32: case Scalar::u32: case Scalar::f32: return 4;
-    case Scalar::f64: return 8;
+    case Scalar::i8:
+    case Scalar::u8:
+      return 1;
+    case Scalar::i16:
+    case Scalar::u16:
+      return 2;
+    case Scalar::i32:
+    case Scalar::u32:
+    case Scalar::f32:
+      return 4;
+    case Scalar::f64:
+      return 8;
   }
   return 0;
 }
@@ -63,8 +71,8 @@ enum class Encoding { ascii, little, big };
 struct Header {
   Encoding encoding = Encoding::ascii;
   std::vector<Element> elements;
-  std::size_t body_offset = 0;   // byte offset of the first byte after end_header
-  std::size_t body_line = 0;     // line number of the first body line (ascii)
+  std::size_t body_offset = 0;  // byte offset of the first byte after end_header
+  std::size_t body_line = 0;    // line number of the first body line (ascii)
 };
 
 Header parse_header(std::string_view bytes, const std::string& name) {
@@ -82,10 +90,14 @@ Header parse_header(std::string_view bytes, const std::string& name) {
     if (key == "comment" || key == "obj_info") continue;
     if (key == "format") {
       if (tok.size() != 3) sc.fail("malformed format line");
-      if (tok[1] == "ascii") h.encoding = Encoding::ascii;
-      else if (tok[1] == "binary_little_endian") h.encoding = Encoding::little;
-      else if (tok[1] == "binary_big_endian") h.encoding = Encoding::big;
-      else sc.fail("unknown PLY format '" + std::string(tok[1]) + "'");
+      if (tok[1] == "ascii")
+        h.encoding = Encoding::ascii;
+      else if (tok[1] == "binary_little_endian")
+        h.encoding = Encoding::little;
+      else if (tok[1] == "binary_big_endian")
+        h.encoding = Encoding::big;
+      else
+        sc.fail("unknown PLY format '" + std::string(tok[1]) + "'");
       have_format = true;
     } else if (key == "element") {
       if (tok.size() != 3) sc.fail("malformed element line");
@@ -141,14 +153,43 @@ class BinaryCursor {
     if (big_) std::reverse(raw, raw + n);
     pos_ += n;
     switch (s) {
-      case Scalar::i8: { std::int8_t v; std::memcpy(&v, raw, 1); return v; }
-      case Scalar::u8: return raw[0];
-      case Scalar::i16: { std::int16_t v; std::memcpy(&v, raw, 2); return v; }
-      case Scalar::u16: { std::uint16_t v; std::memcpy(&v, raw, 2); return v; }
-      case Scalar::i32: { std::int32_t v; std::memcpy(&v, raw, 4); return v; }
-      case Scalar::u32: { std::uint32_t v; std::memcpy(&v, raw, 4); return v; }
-      case Scalar::f32: { float v; std::memcpy(&v, raw, 4); return v; }
-      case Scalar::f64: { double v; std::memcpy(&v, raw, 8); return v; }
+      case Scalar::i8: {
+        std::int8_t v;
+        std::memcpy(&v, raw, 1);
+        return v;
+      }
+      case Scalar::u8:
+        return raw[0];
+      case Scalar::i16: {
+        std::int16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case Scalar::u16: {
+        std::uint16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case Scalar::i32: {
+        std::int32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Scalar::u32: {
+        std::uint32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Scalar::f32: {
+        float v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Scalar::f64: {
+        double v;
+        std::memcpy(&v, raw, 8);
+        return v;
+      }
     }
     return 0;
   }
@@ -182,7 +223,7 @@ class BinaryBody final : public BodyReader {
   void begin_element_instance() override { start_ = cursor_.pos(); }
   double scalar(Scalar type) override { return cursor_.read(type); }
   void end_element_instance() override {}
- std::size_t remaining_bytes() const override { return cursor_.remaining(); }
+  std::size_t remaining_bytes() const override { return cursor_.remaining(); }
   bool can_hold_list(std::size_t n, Scalar type) const override { return n <= cursor_.remaining() / scalar_size(type); }
   [[noreturn]] void fail(const std::string& problem) const override {
     throw IoError(name_, "byte " + std::to_string(start_) + ": " + problem);
@@ -196,7 +237,8 @@ class BinaryBody final : public BodyReader {
 
 class AsciiBody final : public BodyReader {
  public:
-  AsciiBody(std::string_view text, std::size_t first_line, const std::string& name) : scanner_(text, name, first_line) {}
+  AsciiBody(std::string_view text, std::size_t first_line, const std::string& name)
+      : scanner_(text, name, first_line) {}
   void begin_element_instance() override {
     do {
       if (!scanner_.next_line()) scanner_.fail("unexpected end of file (fewer elements than the header declares)");
@@ -243,8 +285,10 @@ std::size_t min_instance_bytes(const Element& e, Encoding enc) {
 Mesh read_ply(std::string_view bytes, const std::string& name) {
   const Header h = parse_header(bytes, name);
   std::unique_ptr<BodyReader> body;
-  if (h.encoding == Encoding::ascii) body = std::make_unique<AsciiBody>(bytes.substr(h.body_offset), h.body_line, name);
-  else body = std::make_unique<BinaryBody>(bytes, h.body_offset, h.encoding == Encoding::big, name);
+  if (h.encoding == Encoding::ascii)
+    body = std::make_unique<AsciiBody>(bytes.substr(h.body_offset), h.body_line, name);
+  else
+    body = std::make_unique<BinaryBody>(bytes, h.body_offset, h.encoding == Encoding::big, name);
 
   Mesh mesh;
   bool have_vertices = false;
@@ -300,10 +344,14 @@ Mesh read_ply(std::string_view bytes, const std::string& name) {
           }
         } else {
           const double v = body->scalar(p.type);
-          if (at == ix) values[0] = v;
-          else if (at == iy) values[1] = v;
-          else if (at == iz) values[2] = v;
-          else if (at == iq) quality = static_cast<float>(v);
+          if (at == ix)
+            values[0] = v;
+          else if (at == iy)
+            values[1] = v;
+          else if (at == iz)
+            values[2] = v;
+          else if (at == iq)
+            quality = static_cast<float>(v);
         }
       }
       body->end_element_instance();
@@ -313,12 +361,13 @@ Mesh read_ply(std::string_view bytes, const std::string& name) {
         if (iq >= 0) mesh.vertex_quality[i] = quality;
       } else if (is_face) {
         if (polygon.size() < 3)
-          body->fail("face " + std::to_string(i) + " has " + std::to_string(polygon.size()) + " vertices (at least 3 needed)");
+          body->fail("face " + std::to_string(i) + " has " + std::to_string(polygon.size()) +
+                     " vertices (at least 3 needed)");
         if (have_vertices)
           for (std::uint32_t v : polygon)
             if (v >= mesh.positions.size())
-              body->fail("face " + std::to_string(i) + " has vertex index " + std::to_string(v) + " >= " +
-                         std::to_string(mesh.positions.size()) + " vertices");
+              body->fail("face " + std::to_string(i) + " has vertex index " + std::to_string(v) +
+                         " >= " + std::to_string(mesh.positions.size()) + " vertices");
         detail::append_fan(polygon, mesh.faces);
         if (iq >= 0) mesh.face_quality.resize(mesh.faces.size(), quality);
       }
@@ -329,8 +378,8 @@ Mesh read_ply(std::string_view bytes, const std::string& name) {
   for (std::size_t f = 0; f < mesh.faces.size(); ++f)
     for (VertexIndex v : mesh.faces[f])
       if (v >= mesh.positions.size())
-        throw IoError(name, "face " + std::to_string(f) + " has vertex index " + std::to_string(v) + " >= " +
-                                std::to_string(mesh.positions.size()) + " vertices");
+        throw IoError(name, "face " + std::to_string(f) + " has vertex index " + std::to_string(v) +
+                                " >= " + std::to_string(mesh.positions.size()) + " vertices");
   if (!mesh.face_quality.empty() && mesh.face_quality.size() != mesh.faces.size()) mesh.face_quality.clear();
   return mesh;
 }
@@ -382,8 +431,10 @@ void write_ply(const Mesh& mesh, std::ostream& out, const WriteOptions& options)
     line.precision(use_double ? 17 : 9);
     for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
       const Vec3& p = mesh.positions[v];
-      if (use_double) line << p.x << ' ' << p.y << ' ' << p.z;
-      else line << float(p.x) << ' ' << float(p.y) << ' ' << float(p.z);
+      if (use_double)
+        line << p.x << ' ' << p.y << ' ' << p.z;
+      else
+        line << float(p.x) << ' ' << float(p.y) << ' ' << float(p.z);
       if (mesh.has_vertex_quality()) line << ' ' << mesh.vertex_quality[v];
       line << '\n';
       out << line.str();
@@ -404,8 +455,10 @@ void write_ply(const Mesh& mesh, std::ostream& out, const WriteOptions& options)
   for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
     const Vec3& p = mesh.positions[v];
     for (int k = 0; k < 3; ++k) {
-      if (use_double) buf.put<double>(p[k]);
-      else buf.put<float>(static_cast<float>(p[k]));
+      if (use_double)
+        buf.put<double>(p[k]);
+      else
+        buf.put<float>(static_cast<float>(p[k]));
     }
     if (mesh.has_vertex_quality()) buf.put<float>(mesh.vertex_quality[v]);
     if (buf.size() > kChunk) buf.flush_to(out);

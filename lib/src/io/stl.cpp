@@ -69,7 +69,9 @@ Mesh read_binary(std::string_view bytes, const std::string& name) {
       float xyz[3];
       std::memcpy(xyz, rec + 12 * k, 12);
       const Vec3 p{xyz[0], xyz[1], xyz[2]};
-      if (!is_finite(p)) throw IoError(name, "byte " + std::to_string(84 + 50ull * t) + ": triangle " + std::to_string(t) + " has a non-finite coordinate");
+      if (!is_finite(p))
+        throw IoError(name, "byte " + std::to_string(84 + 50ull * t) + ": triangle " + std::to_string(t) +
+                                " has a non-finite coordinate");
       f[k] = welder.add(p);
     }
     mesh.faces.push_back(f);
@@ -127,7 +129,8 @@ void write_stl(const Mesh& mesh, std::ostream& out, bool binary) {
     for (const Face& f : mesh.faces) {
       const Vec3 n = unit_normal(f);
       out << "facet normal " << n.x << ' ' << n.y << ' ' << n.z << "\n outer loop\n";
-      for (VertexIndex v : f) out << "  vertex " << mesh.positions[v].x << ' ' << mesh.positions[v].y << ' ' << mesh.positions[v].z << '\n';
+      for (VertexIndex v : f)
+        out << "  vertex " << mesh.positions[v].x << ' ' << mesh.positions[v].y << ' ' << mesh.positions[v].z << '\n';
       out << " endloop\nendfacet\n";
     }
     out << "endsolid visimp\n";

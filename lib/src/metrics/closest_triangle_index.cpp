@@ -104,10 +104,11 @@ std::uint32_t ClosestTriangleIndex::build(std::vector<std::uint32_t>& order, con
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const std::uint32_t mid = begin + (end - begin) / 2;
   // Ties broken by face index so the tree does not depend on the standard library's nth_element.
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, [&](std::uint32_t x, std::uint32_t y) {
-    const double cx = centroid[x][axis], cy = centroid[y][axis];
-    return cx < cy || (cx == cy && x < y);
-  });
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [&](std::uint32_t x, std::uint32_t y) {
+                     const double cx = centroid[x][axis], cy = centroid[y][axis];
+                     return cx < cy || (cx == cy && x < y);
+                   });
   const auto index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
   Node node{};
@@ -237,8 +238,10 @@ void ClosestTriangleIndex::squared_distances(const Vec3* points, std::size_t n, 
         stack.pop_back();
         for (int c = 0; c < 2; ++c) {
           if (node_gap2(node.box[c]) > bound) continue;
-          if (node.child[c] & kLeaf) collect_leaf(node.child[c], node.leaf_size[c]);
-          else stack.push_back(node.child[c]);
+          if (node.child[c] & kLeaf)
+            collect_leaf(node.child[c], node.leaf_size[c]);
+          else
+            stack.push_back(node.child[c]);
         }
       }
     }

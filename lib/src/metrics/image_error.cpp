@@ -83,8 +83,8 @@ ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& op
     throw UsageError("image-error supersampling must be in 1..8, got " + std::to_string(options.supersample));
   const int samples = options.resolution * options.supersample;
   if (options.resolution < 16 || samples > 8192)
-    throw UsageError("image-error resolution × supersampling must be in 16..8192, got " + std::to_string(options.resolution) +
-                     " × " + std::to_string(options.supersample));
+    throw UsageError("image-error resolution × supersampling must be in 16..8192, got " +
+                     std::to_string(options.resolution) + " × " + std::to_string(options.supersample));
   const auto renderer = make_raster_renderer({samples, options.threads});
   const View view = frame_views(a, b);
   const CameraSet cameras = dodecahedron_cameras();

@@ -30,13 +30,13 @@ constexpr std::uint64_t kFaceStream = 1, kEdgeStream = 2;
 // Where the samples of one surface go, decided up front (cheap, serial) so that the samples
 // themselves can be drawn and measured in parallel without ever being stored.
 struct SamplePlan {
-  std::vector<VertexIndex> vertices;         // vertices used by a face: one sample each
-  std::vector<std::uint64_t> edges;          // distinct edges (min << 32 | max)
-  std::vector<std::uint32_t> edge_samples;   // per edge: points spread along it (for the max)
-  std::vector<double> area;                  // per face; 0 for degenerate faces
-  std::vector<std::uint32_t> face_samples;   // per face: samples on it
-  std::vector<std::size_t> face_offset;      // per face + 1: prefix sums of face_samples
-  std::vector<std::uint32_t> face_order;     // the order faces are measured in (spatial)
+  std::vector<VertexIndex> vertices;        // vertices used by a face: one sample each
+  std::vector<std::uint64_t> edges;         // distinct edges (min << 32 | max)
+  std::vector<std::uint32_t> edge_samples;  // per edge: points spread along it (for the max)
+  std::vector<double> area;                 // per face; 0 for degenerate faces
+  std::vector<std::uint32_t> face_samples;  // per face: samples on it
+  std::vector<std::size_t> face_offset;     // per face + 1: prefix sums of face_samples
+  std::vector<std::uint32_t> face_order;    // the order faces are measured in (spatial)
   FaceSampling sampling = FaceSampling::random;
   std::uint64_t seed = 0;
   std::size_t edge_total = 0;
@@ -155,8 +155,8 @@ struct SampleDistances {
   double edge_max = 0;
 };
 
-SampleDistances measure(const Mesh& from, const SamplePlan& plan, const Mesh& to, int threads,
-                        double& seconds_index, double& seconds_queries) {
+SampleDistances measure(const Mesh& from, const SamplePlan& plan, const Mesh& to, int threads, double& seconds_index,
+                        double& seconds_queries) {
   auto t = std::chrono::steady_clock::now();
   const ClosestTriangleIndex index(to);
   if (index.empty()) throw InvalidMeshError("surface distance: a mesh has no non-degenerate face");
@@ -173,7 +173,8 @@ SampleDistances measure(const Mesh& from, const SamplePlan& plan, const Mesh& to
   const std::size_t edge_blocks = (plan.edges.size() + kBlock - 1) / kBlock;
   const std::size_t face_blocks = (from.num_faces() + kBlock - 1) / kBlock;
   std::vector<double> edge_block_max(edge_blocks, 0.0);
-  const unsigned workers = worker_count(threads > 0 ? unsigned(threads) : 0u, vertex_blocks + edge_blocks + face_blocks);
+  const unsigned workers =
+      worker_count(threads > 0 ? unsigned(threads) : 0u, vertex_blocks + edge_blocks + face_blocks);
   parallel_for(0, vertex_blocks + edge_blocks + face_blocks, workers, [&](unsigned, std::size_t item) {
     std::uint32_t hint = ClosestTriangleIndex::kNoHint;
     if (item < vertex_blocks) {
@@ -243,7 +244,8 @@ DirectedDistance summarize(const SamplePlan& plan, const SampleDistances& distan
       const double share = plan.area[f] / double(plan.face_samples[f]) / w;
       for (std::size_t i = plan.face_offset[f]; i < plan.face_offset[f + 1]; ++i) {
         const double x = d.max > 0 ? distance.face[i] / d.max : 0.0;
-        d.histogram[std::min(d.histogram.size() - 1, static_cast<std::size_t>(x * double(d.histogram.size())))] += share;
+        d.histogram[std::min(d.histogram.size() - 1, static_cast<std::size_t>(x * double(d.histogram.size())))] +=
+            share;
       }
     }
   }
@@ -274,18 +276,19 @@ VisibleDistance summarize_visible(const SamplePlan& plan, const SampleDistances&
   return v;
 }
 
-
 }  // namespace
 
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const bool weighted = !options.face_visibility.empty();
   if (weighted && options.face_visibility.size() != a.num_faces()) {
-    throw InvalidMeshError("SurfaceDistanceOptions::face_visibility has " + std::to_string(options.face_visibility.size()) +
-                           " values for " + std::to_string(a.num_faces()) + " faces of A");
+    throw InvalidMeshError("SurfaceDistanceOptions::face_visibility has " +
+                           std::to_string(options.face_visibility.size()) + " values for " +
+                           std::to_string(a.num_faces()) + " faces of A");
   }
   for (const float v : options.face_visibility) {
-    if (!(v >= 0 && v <= 1)) throw InvalidMeshError("SurfaceDistanceOptions::face_visibility holds a value outside [0, 1]");
+    if (!(v >= 0 && v <= 1))
+      throw InvalidMeshError("SurfaceDistanceOptions::face_visibility holds a value outside [0, 1]");
   }
   std::size_t count = options.samples ? options.samples : 10 * std::max(a.num_faces(), b.num_faces());
   if (options.density > 0) {

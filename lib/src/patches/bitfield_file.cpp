@@ -43,8 +43,8 @@ void decompress_words(ByteReader& in, std::vector<std::uint64_t>& words, std::si
     for (std::uint64_t k = 0; k < literals; ++k) words[i++] = in.u64();
   }
   if (i != words.size() || in.position() != end) {
-    throw IoError(path, "compressed bitfields hold " + std::to_string(i) + " of " + std::to_string(words.size()) +
-                            " words");
+    throw IoError(path,
+                  "compressed bitfields hold " + std::to_string(i) + " of " + std::to_string(words.size()) + " words");
   }
 }
 
@@ -168,7 +168,8 @@ BitfieldSet parse_bitfield_file(const std::string& bytes, const std::string& pat
     throw IoError(path, "checksum mismatch: the bitfield file is damaged");
   }
   if (cameras == 0 || cameras > 65536 || units > set.faces || (set.per_face && units != set.faces) ||
-      set.faces > 0xffffffffull || !std::isfinite(set.radius) || !(set.radius > 0) || set.transparent_faces > set.faces) {
+      set.faces > 0xffffffffull || !std::isfinite(set.radius) || !(set.radius > 0) ||
+      set.transparent_faces > set.faces) {
     throw IoError(path, "inconsistent counts in the bitfield header");
   }
   if ((set.per_face && map_bytes != 0) || (!set.per_face && !(flags & kMapRuns) && map_bytes != set.faces * 4)) {

@@ -3,18 +3,22 @@
 // Rows belong to cameras and every camera is rendered by exactly one worker, so workers
 // write disjoint words and need no locks; the result does not depend on the thread count.
 #include "visimp/patches/bitfields.h"
+#include "visimp/patches/bitfield_file.h"
 
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "visimp/core/bounding_box.h"
+#include "visimp/core/content_hash.h"
 #include "visimp/core/errors.h"
 
 namespace visimp {
 
 Bitfields::Bitfields(std::size_t unit_count, std::size_t camera_count)
-    : units(unit_count), cameras(camera_count), words_per_row((unit_count + 63) / 64),
+    : units(unit_count),
+      cameras(camera_count),
+      words_per_row((unit_count + 63) / 64),
       words(words_per_row * camera_count, 0) {}
 
 std::size_t Bitfields::count(std::size_t camera) const {
@@ -27,11 +31,15 @@ std::size_t Bitfields::count(std::size_t camera) const {
 BitfieldRecorder::BitfieldRecorder(const Mesh& mesh, const RenderScene& scene,
                                    std::vector<std::uint32_t> scene_face_input, const PatchPartition& partition,
                                    std::size_t cameras, const BitfieldOptions& options)
-    : mesh_(mesh), scene_faces_(scene.faces), scene_face_input_(std::move(scene_face_input)), partition_(partition), options_(options),
+    : mesh_(mesh),
+      scene_faces_(scene.faces),
+      scene_face_input_(std::move(scene_face_input)),
+      partition_(partition),
+      options_(options),
       bits_(partition.patch_count(), cameras) {
   if (partition.face_patch.size() != mesh.num_faces()) {
-    throw UsageError("the patch partition has " + std::to_string(partition.face_patch.size()) +
-                     " faces, the mesh " + std::to_string(mesh.num_faces()));
+    throw UsageError("the patch partition has " + std::to_string(partition.face_patch.size()) + " faces, the mesh " +
+                     std::to_string(mesh.num_faces()));
   }
   if (scene_face_input_.size() != scene.faces.size()) {
     throw UsageError("the scene-to-input face map does not match the scene's faces");
@@ -66,7 +74,9 @@ void mark_visible_vertices(const Frame& frame, float tolerance, std::vector<std:
     for (int j = j0; j <= j0 + 1 && !visible[v]; ++j) {
       for (int i = i0; i <= i0 + 1; ++i) {
         if (i < 0 || j < 0 || i >= r || j >= r) continue;
-        if (s.depth <= frame.depth[static_cast<std::size_t>(j) * static_cast<std::size_t>(r) + static_cast<std::size_t>(i)] + tolerance) {
+        if (s.depth <=
+            frame.depth[static_cast<std::size_t>(j) * static_cast<std::size_t>(r) + static_cast<std::size_t>(i)] +
+                tolerance) {
           visible[v] = 1;
           break;
         }
@@ -195,12 +205,30 @@ std::vector<std::uint8_t> read_face_list(const std::string& path, std::size_t fa
       }
       if (index >= faces) {
         throw IoError(path, "line " + std::to_string(number) + ": face " + word + " is out of range (the mesh has " +
-                      std::to_string(faces) + " faces)");
+                                std::to_string(faces) + " faces)");
       }
       flags[index] = 1;
     }
   }
   return flags;
+}
+
+BitfieldSet make_bitfield_set(const Mesh& mesh, const PatchPartition& partition, bool per_face, const CameraSet& cameras,
+                              int resolution, const BitfieldOptions& options) {
+  BitfieldSet set;
+  set.mesh_hash = hash_mesh(mesh);
+  set.faces = mesh.num_faces();
+  set.per_face = per_face;
+  set.neighbour_fill = options.neighbour_fill;
+  set.depth_test = options.depth_test;
+  for (const std::uint8_t flag : options.transparent) set.transparent_faces += flag;
+  set.resolution = static_cast<std::uint32_t>(resolution);
+  const BoundingBox box = bounding_box(mesh);
+  set.center = box.center();
+  set.radius = view_radius(box);
+  set.cameras = cameras;
+  if (!per_face) set.face_patch = partition.face_patch;
+  return set;
 }
 
 }  // namespace visimp

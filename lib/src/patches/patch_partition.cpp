@@ -88,9 +88,10 @@ struct HeapEntry {
 
 std::vector<OptionSpec> describe_options(PatchOptions& options) {
   return {
-      option_spec("--patches", "N", options.count, "patch count to stop at; 0 = only --max-patch-diagonal limits fusion"),
-      option_spec("--max-patch-diagonal", "D",
-                  options.max_diagonal, "never fuse into a patch whose bounding-box diagonal exceeds D (input units; 0 = no limit)"),
+      option_spec("--patches", "N", options.count,
+                  "patch count to stop at; 0 = only --max-patch-diagonal limits fusion"),
+      option_spec("--max-patch-diagonal", "D", options.max_diagonal,
+                  "never fuse into a patch whose bounding-box diagonal exceeds D (input units; 0 = no limit)"),
   };
 }
 
@@ -220,12 +221,33 @@ std::vector<std::array<std::uint8_t, 3>> patch_colors(std::size_t patches) {
     const double p = v * (1 - s), q = v * (1 - s * frac), t = v * (1 - s * (1 - frac));
     double r = v, g = t, b = p;
     switch (sector) {
-      case 1: r = q; g = v; b = p; break;
-      case 2: r = p; g = v; b = t; break;
-      case 3: r = p; g = q; b = v; break;
-      case 4: r = t; g = p; b = v; break;
-      case 5: r = v; g = p; b = q; break;
-      default: break;
+      case 1:
+        r = q;
+        g = v;
+        b = p;
+        break;
+      case 2:
+        r = p;
+        g = v;
+        b = t;
+        break;
+      case 3:
+        r = p;
+        g = q;
+        b = v;
+        break;
+      case 4:
+        r = t;
+        g = p;
+        b = v;
+        break;
+      case 5:
+        r = v;
+        g = p;
+        b = q;
+        break;
+      default:
+        break;
     }
     colors[i] = {static_cast<std::uint8_t>(std::lround(r * 255)), static_cast<std::uint8_t>(std::lround(g * 255)),
                  static_cast<std::uint8_t>(std::lround(b * 255))};

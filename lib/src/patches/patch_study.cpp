@@ -1,4 +1,5 @@
 // The culling-rate / missed-pixel / frame-time study (see patch_study.h).
+#include "visimp/patches/bitfield_file.h"
 #include "visimp/patches/patch_study.h"
 
 #include <algorithm>
@@ -132,6 +133,7 @@ PatchStudy run_patch_study(const Mesh& mesh, Renderer& sampler, Renderer* timer,
   const BoundingBox box = bounding_box(mesh);
   const RenderScene full_scene = RenderScene::from_mesh(mesh, false, box.center(), view_radius(box));
   std::vector<Frame> full_frames;
+  full_frames.reserve(pixel_views.size());
   for (const Vec3& d : pixel_views) full_frames.push_back(render_view(sampler, full_scene, d));
   std::vector<double> full_frame_seconds;
   const std::size_t timing_views = timer ? std::min<std::size_t>(pixel_views.size(), 5) : 0;
@@ -141,12 +143,7 @@ PatchStudy run_patch_study(const Mesh& mesh, Renderer& sampler, Renderer* timer,
 
   for (const Config& config : configs) {
     const bool faces = config.unit == "faces";
-    BitfieldSet set;
-    set.faces = mesh.num_faces();
-    set.per_face = faces;
-    set.center = box.center();
-    set.radius = view_radius(box);
-    set.face_patch = faces ? std::vector<std::uint32_t>{} : config.partition.face_patch;
+    BitfieldSet set = make_bitfield_set(mesh, config.partition, faces, {}, study.resolution, bit_options);
     const Bitfields all_rows = faces ? Bitfields{} : patch_bitfields_from_faces(face_bits, config.partition);
     const Bitfields& rows = faces ? face_bits : all_rows;
     for (int level = 0; level <= options.max_level; ++level) {
@@ -173,7 +170,8 @@ PatchStudy run_patch_study(const Mesh& mesh, Renderer& sampler, Renderer* timer,
       double timed_culled = 0;
       for (std::size_t v = 0; v < pixel_views.size(); ++v) {
         const std::vector<std::uint32_t> drawn = reconstructor.faces(pixel_views[v]);
-        check.drawn_fraction += static_cast<double>(drawn.size()) / static_cast<double>(std::max<std::size_t>(1, mesh.num_faces()));
+        check.drawn_fraction +=
+            static_cast<double>(drawn.size()) / static_cast<double>(std::max<std::size_t>(1, mesh.num_faces()));
         const RenderScene culled = subset_scene(full_scene, drawn);
         const Frame frame = render_view(sampler, culled, pixel_views[v]);
         const std::vector<std::uint32_t>& full_ids = full_frames[v].ids;
@@ -272,9 +270,9 @@ void write_patch_study(const PatchStudy& study, const std::string& directory) {
     }
     for (const PixelCheck& p : study.pixels) {
       out << "pixels," << p.unit << ',' << p.patches << ',' << p.cameras << ",,,," << p.views << ','
-          << p.differing_pixels << ',' << p.depth_differing_pixels << ',' << p.max_differing_pixels << ',' << p.views_with_differences << ','
-          << p.mesh_pixels << ',' << p.drawn_fraction << ',' << p.seconds_per_frame_full << ','
-          << p.seconds_per_frame_culled << '\n';
+          << p.differing_pixels << ',' << p.depth_differing_pixels << ',' << p.max_differing_pixels << ','
+          << p.views_with_differences << ',' << p.mesh_pixels << ',' << p.drawn_fraction << ','
+          << p.seconds_per_frame_full << ',' << p.seconds_per_frame_culled << '\n';
     }
     file.commit();
   }
@@ -308,8 +306,8 @@ void write_patch_study(const PatchStudy& study, const std::string& directory) {
     const auto k = static_cast<std::size_t>(std::find(cameras.begin(), cameras.end(), c.cameras) - cameras.begin());
     by_patches.series[k].points.emplace_back(static_cast<double>(c.patches), c.culling_rate);
   }
-  for (const auto& [name, plot] : {std::make_pair("culling_vs_samples.svg", &by_samples),
-                                   std::make_pair("culling_vs_patches.svg", &by_patches)}) {
+  for (const auto& [name, plot] :
+       {std::make_pair("culling_vs_samples.svg", &by_samples), std::make_pair("culling_vs_patches.svg", &by_patches)}) {
     AtomicFileWriter file((fs::path(directory) / name).string());
     plot->write(file.stream());
     file.commit();

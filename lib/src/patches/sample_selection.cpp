@@ -30,9 +30,12 @@ Vec3 cube_cell_direction(int face, int i, int j) {
   const double u = (i + 0.5) / kCubeCells * 2 - 1, v = (j + 0.5) / kCubeCells * 2 - 1;
   const double s = face % 2 == 0 ? 1.0 : -1.0;
   switch (face / 2) {
-    case 0: return {s, u, v};
-    case 1: return {u, s, v};
-    default: return {u, v, s};
+    case 0:
+      return {s, u, v};
+    case 1:
+      return {u, s, v};
+    default:
+      return {u, v, s};
   }
 }
 
@@ -125,7 +128,8 @@ SampleSelector::SampleSelector(const CameraSet& cameras) : impl_(std::make_uniqu
     const Vec3& d = cameras.directions[i];
     if (index_of.emplace(std::make_tuple(d.x, d.y, d.z), i).second) points.emplace_back(d.x, d.y, d.z);
   }
-  if (points.size() < 4) throw UsageError(problem + "are fewer than 4 distinct directions: no hull surrounds the centre");
+  if (points.size() < 4)
+    throw UsageError(problem + "are fewer than 4 distinct directions: no hull surrounds the centre");
   HullMesh hull;
   CGAL::convex_hull_3(points.begin(), points.end(), hull);
   auto camera_of = [&](HullMesh::Vertex_index v) {

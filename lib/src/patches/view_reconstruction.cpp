@@ -73,7 +73,8 @@ std::vector<std::uint32_t> ViewReconstructor::faces(const Vec3& direction) const
 
 std::size_t ViewReconstructor::face_count(const std::uint64_t* joined) const {
   std::size_t n = 0;
-  for_each_set_bit(joined, words_per_row(), [&](std::size_t u) { n += unit_face_offsets_[u + 1] - unit_face_offsets_[u]; });
+  for_each_set_bit(joined, words_per_row(),
+                   [&](std::size_t u) { n += unit_face_offsets_[u + 1] - unit_face_offsets_[u]; });
   return n;
 }
 

@@ -34,7 +34,8 @@ RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces, const
 namespace {
 
 // Per vertex: the cone of the normals of its faces (see VertexCone).
-std::vector<VertexCone> vertex_normal_cones(const RenderScene& scene, const std::vector<std::array<float, 3>>& unit_normals) {
+std::vector<VertexCone> vertex_normal_cones(const RenderScene& scene,
+                                            const std::vector<std::array<float, 3>>& unit_normals) {
   const std::vector<Face>& faces = scene.faces;
   const std::size_t culled_faces = scene.culled_faces;
   const std::size_t vertices = scene.positions.size();

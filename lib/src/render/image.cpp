@@ -51,7 +51,8 @@ Rgb heat_color(double t) {
   const int i = std::min(3, static_cast<int>(x));
   const double f = x - i;
   Rgb c;
-  for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f));
+  for (int k = 0; k < 3; ++k)
+    c[k] = static_cast<std::uint8_t>(std::lround(stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f));
   return c;
 }
 

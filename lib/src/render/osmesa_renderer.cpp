@@ -43,8 +43,16 @@ void main() { face = id; }
 
 constexpr const char* kNoContext =
     "osmesa: cannot create an OpenGL 4.5 core context (Mesa's llvmpipe needed; use --backend raster)";
-constexpr int kContextAttributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_PROFILE,
-                                      OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5,
+constexpr int kContextAttributes[] = {OSMESA_FORMAT,
+                                      OSMESA_RGBA,
+                                      OSMESA_DEPTH_BITS,
+                                      0,
+                                      OSMESA_PROFILE,
+                                      OSMESA_CORE_PROFILE,
+                                      OSMESA_CONTEXT_MAJOR_VERSION,
+                                      4,
+                                      OSMESA_CONTEXT_MINOR_VERSION,
+                                      5,
                                       0};
 
 GLuint compile(GLenum type, const char* source) {
@@ -114,7 +122,8 @@ class GlWorker {
     glBindVertexArray(vao);
     glGenBuffers(2, vbo);
     glBindBuffer(GL_ARRAY_BUFFER, vbo[0]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(positions.size() * sizeof(float)), positions.data(), GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(positions.size() * sizeof(float)), positions.data(),
+                 GL_STATIC_DRAW);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     glEnableVertexAttribArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, vbo[1]);

@@ -150,8 +150,9 @@ class RasterRenderer final : public Renderer {
     const double dz1 = static_cast<double>(s1->depth) - s0->depth, dz2 = static_cast<double>(s2->depth) - s0->depth;
     const double dzdx = (dz1 * ey2 - dz2 * ey1) * inv_area * kSubpixel;
     const double dzdy = (dz2 * ex1 - dz1 * ex2) * inv_area * kSubpixel;
-    const double z_origin = s0->depth + (dzdx * static_cast<double>(origin.x - a.x) +
-                                         dzdy * static_cast<double>(origin.y - a.y)) / kSubpixel;
+    const double z_origin =
+        s0->depth +
+        (dzdx * static_cast<double>(origin.x - a.x) + dzdy * static_cast<double>(origin.y - a.y)) / kSubpixel;
     const std::uint32_t id = static_cast<std::uint32_t>(f + 1);
 
     for (int y = y0; y <= y1; ++y) {

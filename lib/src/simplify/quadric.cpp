@@ -10,8 +10,8 @@
 namespace visimp {
 
 namespace {
-constexpr double kRankThreshold = 1e-3;    // eigenvalues below this·λmax count as zero
-constexpr double kMaxReachInEdges = 2.0;   // a placement farther than this from the midpoint is rejected
+constexpr double kRankThreshold = 1e-3;   // eigenvalues below this·λmax count as zero
+constexpr double kMaxReachInEdges = 2.0;  // a placement farther than this from the midpoint is rejected
 }  // namespace
 
 Quadric Quadric::plane(const Vec3& n, const Vec3& point, double weight) {

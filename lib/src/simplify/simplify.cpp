@@ -42,10 +42,14 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
 
 const char* to_string(StopReason reason) {
   switch (reason) {
-    case StopReason::target_reached: return "target_reached";
-    case StopReason::error_limit: return "error_limit";
-    case StopReason::no_legal_collapse: return "no_legal_collapse";
-    case StopReason::nothing_to_do: return "nothing_to_do";
+    case StopReason::target_reached:
+      return "target_reached";
+    case StopReason::error_limit:
+      return "error_limit";
+    case StopReason::no_legal_collapse:
+      return "no_legal_collapse";
+    case StopReason::nothing_to_do:
+      return "nothing_to_do";
   }
   return "?";
 }
@@ -53,9 +57,9 @@ const char* to_string(StopReason reason) {
 namespace {
 
 constexpr std::uint8_t kAlive = 1;
-constexpr std::uint8_t kLocked = 2;     // never moved or removed; a free neighbour may collapse onto it
-constexpr std::uint8_t kBoundary = 4;   // on an open boundary
-constexpr std::uint8_t kRejected = 8;   // a collapse at this vertex was refused; retry after nearby changes
+constexpr std::uint8_t kLocked = 2;    // never moved or removed; a free neighbour may collapse onto it
+constexpr std::uint8_t kBoundary = 4;  // on an open boundary
+constexpr std::uint8_t kRejected = 8;  // a collapse at this vertex was refused; retry after nearby changes
 
 // A candidate in the lazy queue (key: radix_key of its cost). It is stale when either
 // endpoint changed after `time`; stale entries are skipped when popped.
@@ -169,8 +173,10 @@ class CollapseEngine {
       CollapseProfile profile;
       if (prepare(entry, profile) && profile.error <= max_error && legal(profile)) collapse(profile, result);
     }
-    if (faces_alive_ <= target) result.stop_reason = result.collapses ? StopReason::target_reached : StopReason::nothing_to_do;
-    else result.stop_reason = error_limited_ ? StopReason::error_limit : StopReason::no_legal_collapse;
+    if (faces_alive_ <= target)
+      result.stop_reason = result.collapses ? StopReason::target_reached : StopReason::nothing_to_do;
+    else
+      result.stop_reason = error_limited_ ? StopReason::error_limit : StopReason::no_legal_collapse;
   }
 
   std::size_t faces_alive() const { return faces_alive_; }
@@ -204,7 +210,8 @@ class CollapseEngine {
   std::size_t dropped_repeated_index_faces() const { return dropped_repeated_index_faces_; }
 
   std::size_t locked_vertices() const {
-    return static_cast<std::size_t>(std::count_if(flags_.begin(), flags_.end(), [](std::uint8_t f) { return f & kLocked; }));
+    return static_cast<std::size_t>(
+        std::count_if(flags_.begin(), flags_.end(), [](std::uint8_t f) { return f & kLocked; }));
   }
 
  private:
@@ -276,10 +283,13 @@ class CollapseEngine {
         std::size_t j = i;
         while (j < inc.size() && inc[j].other == inc[i].other) ++j;
         const std::size_t count = j - i;
-        if (count > 2) locked = true;  // non-manifold edge
+        if (count > 2)
+          locked = true;  // non-manifold edge
         else if (count == 2) {
-          if (inc[i].outgoing == inc[i + 1].outgoing) locked = true;  // misoriented neighbours
-          else if (fans.unite(inc[i].local, inc[i + 1].local)) --fan_count;
+          if (inc[i].outgoing == inc[i + 1].outgoing)
+            locked = true;  // misoriented neighbours
+          else if (fans.unite(inc[i].local, inc[i + 1].local))
+            --fan_count;
         } else {
           boundary = true;
           if (v < inc[i].other) add_boundary_plane(vf[inc[i].local], v, inc[i].other, options.boundary_weight);
@@ -430,8 +440,7 @@ class CollapseEngine {
   }
 
   bool is_stale(const HeapEntry& e) const {
-    return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) || modified_[e.v0] > e.time ||
-           modified_[e.v1] > e.time;
+    return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) || modified_[e.v0] > e.time || modified_[e.v1] > e.time;
   }
 
   // Fills the profile for a heap entry; false when the entry is stale.
@@ -566,8 +575,10 @@ class CollapseEngine {
     faces_alive_ -= static_cast<std::size_t>(p.num_removed);
 
     positions_[v0] = p.placement.position;
-    if (p.placement.kind == PlacementKind::endpoint1) origin_[v0] = origin_[v1];
-    else if (p.placement.kind != PlacementKind::endpoint0) origin_[v0] = -1;
+    if (p.placement.kind == PlacementKind::endpoint1)
+      origin_[v0] = origin_[v1];
+    else if (p.placement.kind != PlacementKind::endpoint0)
+      origin_[v0] = -1;
     plain_quadric(v0) += plain_quadric(v1);
     if (weighted_) cost_quadric(v0) += cost_quadric(v1);
     flags_[v0] = static_cast<std::uint8_t>(flags_[v0] | (flags_[v1] & kBoundary));
@@ -594,7 +605,8 @@ class CollapseEngine {
 
   void report_progress() {
     if (observer_ == nullptr || faces_alive_ > next_report_) return;
-    observer_->on_progress(planned_ ? std::min(1.0, double(input_.num_faces() - faces_alive_) / double(planned_)) : 1.0);
+    observer_->on_progress(planned_ ? std::min(1.0, double(input_.num_faces() - faces_alive_) / double(planned_))
+                                    : 1.0);
     next_report_ = faces_alive_ > report_every_ ? faces_alive_ - report_every_ : 0;
   }
 
@@ -614,7 +626,7 @@ class CollapseEngine {
     Vec3 n_old, n_new;  // unnormalised normals before and after the candidate collapse
   };
   std::vector<MovedFace> moved_faces_;  // scratch of legal()
-  std::vector<Vec3> positions_;                      // unit frame
+  std::vector<Vec3> positions_;         // unit frame
   std::vector<Face> faces_;
   std::vector<std::uint8_t> face_alive_;
   std::size_t faces_alive_ = 0;
@@ -629,10 +641,10 @@ class CollapseEngine {
   const Quadric& plain_quadric(VertexIndex v) const { return quadrics_[weighted_ ? 2 * std::size_t(v) : v]; }
   Quadric& cost_quadric(VertexIndex v) { return quadrics_[2 * std::size_t(v) + 1]; }
   const Quadric& cost_quadric(VertexIndex v) const { return quadrics_[2 * std::size_t(v) + 1]; }
-  std::vector<double> face_weight_;                  // VG only: V(t)^P per input face (P = 2 by default)
+  std::vector<double> face_weight_;  // VG only: V(t)^P per input face (P = 2 by default)
   std::vector<std::uint8_t> flags_;
-  std::vector<std::uint32_t> modified_;              // clock of the vertex's last change
-  std::vector<std::int64_t> origin_;                 // input vertex whose exact position v holds, or -1
+  std::vector<std::uint32_t> modified_;  // clock of the vertex's last change
+  std::vector<std::int64_t> origin_;     // input vertex whose exact position v holds, or -1
   std::vector<std::uint32_t> mark_;
   std::uint32_t mark_id_ = 0;
   std::uint32_t clock_ = 0;
@@ -648,17 +660,20 @@ class CollapseEngine {
 void check_options(const SimplifyOptions& options) {
   const SimplifyOptions& o = options;
   if (!(o.target_ratio >= 0 && o.target_ratio <= 1))
-    throw OptionError(&o.target_ratio, "SimplifyOptions::target_ratio", "must be in (0, 1] (0: unset), got " + std::to_string(o.target_ratio));
+    throw OptionError(&o.target_ratio, "SimplifyOptions::target_ratio",
+                      "must be in (0, 1] (0: unset), got " + std::to_string(o.target_ratio));
   if (!(o.max_error >= 0)) throw OptionError(&o.max_error, "SimplifyOptions::max_error", "must be >= 0");
   if (!(o.boundary_weight >= 0) || !std::isfinite(o.boundary_weight))
     throw OptionError(&o.boundary_weight, "SimplifyOptions::boundary_weight", "must be a finite number >= 0");
   if (!(o.max_normal_change_deg > 0 && o.max_normal_change_deg <= 180))
-    throw OptionError(&o.max_normal_change_deg, "SimplifyOptions::max_normal_change_deg", "must be in (0, 180] degrees");
+    throw OptionError(&o.max_normal_change_deg, "SimplifyOptions::max_normal_change_deg",
+                      "must be in (0, 180] degrees");
   if (!(o.visibility_exponent > 0) || !std::isfinite(o.visibility_exponent))
     throw OptionError(&o.visibility_exponent, "SimplifyOptions::visibility_exponent", "must be a finite number > 0");
   const bool has_target = o.target_faces > 0 || o.target_ratio > 0;
   if (!has_target && std::isinf(o.max_error))
-    throw OptionError(nullptr, "SimplifyOptions", "needs a target (target_faces or target_ratio) or a finite max_error");
+    throw OptionError(nullptr, "SimplifyOptions",
+                      "needs a target (target_faces or target_ratio) or a finite max_error");
 }
 
 namespace {

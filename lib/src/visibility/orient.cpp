@@ -11,8 +11,8 @@ namespace visimp {
 OrientResult orient_by_visibility(const Mesh& mesh, const Visibility& visibility, const OrientOptions& options) {
   const std::size_t n = mesh.num_faces();
   if (visibility.face_front.size() != n || visibility.face_back.size() != n) {
-    throw UsageError("orienting needs V of both sides of every face: got " + std::to_string(visibility.face_front.size()) +
-                     " for " + std::to_string(n) + " faces");
+    throw UsageError("orienting needs V of both sides of every face: got " +
+                     std::to_string(visibility.face_front.size()) + " for " + std::to_string(n) + " faces");
   }
   if (!(options.both_sides_threshold >= 0 && options.both_sides_threshold < 1)) {
     throw UsageError("both_sides_threshold must be in [0, 1)");
@@ -25,9 +25,12 @@ OrientResult orient_by_visibility(const Mesh& mesh, const Visibility& visibility
   for (std::size_t f = 0; f < n; ++f) {
     const float front = visibility.face_front[f], back = visibility.face_back[f];
     const double threshold = options.both_sides_threshold;
-    if (front > threshold && back > threshold) decision[f] = Decision::both_sides;
-    else if (back > front) decision[f] = Decision::reverse;
-    else if (front > 0) decision[f] = Decision::keep;
+    if (front > threshold && back > threshold)
+      decision[f] = Decision::both_sides;
+    else if (back > front)
+      decision[f] = Decision::reverse;
+    else if (front > 0)
+      decision[f] = Decision::keep;
     if (decision[f] == Decision::keep || decision[f] == Decision::reverse) {
       const bool canonical = (decision[f] == Decision::reverse) == (patches.reversed[f] != 0);
       const double area = norm(face_normal_unnormalized(mesh, mesh.faces[f]));

@@ -20,9 +20,7 @@
 namespace visimp {
 namespace {
 
-std::uint64_t edge_key(VertexIndex a, VertexIndex b) {
-  return (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-}
+std::uint64_t edge_key(VertexIndex a, VertexIndex b) { return (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b); }
 
 }  // namespace
 
@@ -75,7 +73,8 @@ std::optional<RefinedMesh> refine_long_edges(Mesh&& mesh, double max_edge, std::
     std::sort(long_edges.begin(), long_edges.end());
     long_edges.erase(std::unique(long_edges.begin(), long_edges.end()), long_edges.end());
     if (m.positions.size() + long_edges.size() > 0xfffffff0u) {
-      throw UsageError("refinement would need more than 2^32 vertices (a coarser resolution makes the edge limit longer)");
+      throw UsageError(
+          "refinement would need more than 2^32 vertices (a coarser resolution makes the edge limit longer)");
     }
     const VertexIndex first_midpoint = static_cast<VertexIndex>(m.positions.size());
     for (std::uint64_t key : long_edges) {
@@ -137,8 +136,9 @@ std::optional<RefinedMesh> refine_long_edges(Mesh&& mesh, double max_edge, std::
       }
     }
     if (faces.size() > max_faces) {
-      throw UsageError("refinement to edges <= l would exceed " + std::to_string(max_faces) +
-                       " faces (VisibilityOptions::max_refined_faces; a coarser resolution makes the edge limit longer)");
+      throw UsageError(
+          "refinement to edges <= l would exceed " + std::to_string(max_faces) +
+          " faces (VisibilityOptions::max_refined_faces; a coarser resolution makes the edge limit longer)");
     }
     m.faces = std::move(faces);
     refined->input_face = std::move(parents);

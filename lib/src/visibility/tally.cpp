@@ -135,7 +135,8 @@ VisibilityTally VisibilityTally::parse(const std::string& bytes, const std::stri
   t.key.worst_view_cosine = r.f64();
   t.key.depth_tolerance_pixels = r.f64();
   const std::uint64_t ranges = r.u64();
-  if (ranges > r.remaining() / 16) throw IoError(path, "camera range count " + std::to_string(ranges) + " exceeds the file");
+  if (ranges > r.remaining() / 16)
+    throw IoError(path, "camera range count " + std::to_string(ranges) + " exceeds the file");
   for (std::uint64_t i = 0; i < ranges; ++i) {
     const std::uint64_t first = r.u64(), last = r.u64();
     if (first > last || last > t.key.camera_count) throw IoError(path, "camera range out of order or beyond the set");
@@ -145,11 +146,9 @@ VisibilityTally VisibilityTally::parse(const std::string& bytes, const std::stri
   if (t.key.one_sided_faces > t.key.faces) throw IoError(path, "more one-sided faces than faces");
   const std::uint64_t two_sided = t.key.faces - t.key.one_sided_faces;
   // Compare in faces, not bytes: a huge face count must not overflow the expected size.
-  if (r.remaining() % 8 != 0 || r.remaining() / 8 < t.key.faces ||
-      (r.remaining() / 8 - t.key.faces) != two_sided) {
-    throw IoError(path, "expected " + std::to_string(t.key.faces) + " faces of tallies (" +
-                            std::to_string(two_sided) + " two-sided), found " + std::to_string(r.remaining()) +
-                            " bytes");
+  if (r.remaining() % 8 != 0 || r.remaining() / 8 < t.key.faces || (r.remaining() / 8 - t.key.faces) != two_sided) {
+    throw IoError(path, "expected " + std::to_string(t.key.faces) + " faces of tallies (" + std::to_string(two_sided) +
+                            " two-sided), found " + std::to_string(r.remaining()) + " bytes");
   }
   t.reset_sums();
   for (auto& v : t.seen) v = r.u32();
@@ -161,7 +160,8 @@ VisibilityTally VisibilityTally::parse(const std::string& bytes, const std::stri
   }
   for (std::size_t f = 0; f < t.seen_back.size(); ++f) {
     if (t.seen_back[f] > t.total_back[f]) {
-      throw IoError(path, "face " + std::to_string(t.key.one_sided_faces + f) + " is seen from behind more than it is faced");
+      throw IoError(path,
+                    "face " + std::to_string(t.key.one_sided_faces + f) + " is seen from behind more than it is faced");
     }
   }
   return t;

@@ -1,15 +1,6 @@
-// The visibility measure (see visibility.h; Zhang & Turk 2002, eqs. 3.2 and 4.3).
-//
-// Per camera, on the worker that rendered the frame:
-//   1. every pixel marks the face it shows as seen (binary F: the frame's number in
-//      `seen_in_frame`, so nothing needs clearing; fractional F: a pixel count in `owned`);
-//   2. depth test: a vertex counts as visible when it is not behind the depth buffer by more
-//      than the tolerance at one of the four pixel centres around it;
-//   3. one pass over the faces adds q(R·N) to `total` for every face turned toward the
-//      camera and to `seen` when the face owns a pixel or one of its vertices is visible;
-//   4. (fractional F only) the counts are cleared through the same pixels.
-// Workers add integers into their own arrays, summed at the end: any thread count gives
-// the same bits.
+// The visibility measure (see visibility.h; Zhang & Turk 2002, eqs. 3.2 and 4.3): the job
+// that prepares a mesh (winding, refinement, scene order), renders camera slices through
+// TallyConsumer (tally_consumer.h: per-camera F and the depth test) and turns tallies into V.
 #include "visimp/visibility/visibility.h"
 #include "visimp/core/stopwatch.h"
 
@@ -25,238 +16,16 @@
 #include "visimp/core/mesh_stats.h"
 #include "visimp/core/orientation.h"
 #include "visimp/core/union_find.h"
+#include "tally_consumer.h"
 
 namespace visimp {
 namespace {
-
-
 
 std::uint64_t hash_cameras(const CameraSet& cameras) { return hash_directions(cameras.directions); }
 
 std::array<float, 3> to_float(const Vec3& v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
 }
-
-float dot(const std::array<float, 3>& a, const std::array<float, 3>& b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-struct FaceTally {
-  std::uint32_t seen = 0, total = 0;  // together: one cache line serves both
-};
-
-// Per-worker accumulators; see the file comment for the four steps.
-class TallyConsumer final : public FrameConsumer {
-  struct Worker {
-    std::vector<FaceTally> tally;       // front side, every face
-    std::vector<FaceTally> back;        // back side, faces from one_sided_faces on
-    std::vector<std::uint16_t> owned;  // fractional F: pixels owned in the current frame (saturating)
-    std::vector<std::uint32_t> seen_in_frame;  // binary F: number of the last frame the face owned a pixel in
-    std::uint32_t frame_number = 0;
-    std::vector<std::uint8_t> vertex_seen;  // per vertex: passes the depth test in this frame
-    std::vector<std::uint32_t> unsure_vertices;  // the depth test's second pass
-  };
- public:
-  TallyConsumer(const RenderScene& scene, const std::vector<std::array<float, 3>>& face_normals,
-                std::size_t one_sided_faces, const VisibilityOptions& options)
-      : scene_(scene), face_normals_(face_normals), one_sided_(one_sided_faces), options_(options) {}
-
-  void begin(unsigned workers) override { workers_.resize(workers); }
-
-  void consume(const Frame& frame, std::size_t, unsigned worker) override {
-    Worker& w = workers_[worker];
-    const std::size_t faces = scene_.faces.size();
-    if (w.tally.empty()) {
-      w.tally.resize(faces);
-      w.back.resize(faces - one_sided_);
-      if (options_.fractional) w.owned.assign(faces, 0);
-      w.seen_in_frame.assign(faces, 0);
-      w.vertex_seen.assign(scene_.positions.size(), 0);
-      if (options_.depth_test) w.unsure_vertices.resize(scene_.positions.size());
-    }
-    const std::array<float, 3> direction = to_float(frame.view.direction);
-    const std::uint32_t* ids = frame.ids.data();
-    const std::size_t pixels = frame.ids.size();
-    const std::uint32_t frame_number = ++w.frame_number;
-    if (options_.fractional) {
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (ids[p] != 0 && w.owned[ids[p] - 1] != 0xffffu) ++w.owned[ids[p] - 1];
-      }
-    } else {
-      std::uint32_t* seen = w.seen_in_frame.data();
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (ids[p] != 0) seen[ids[p] - 1] = frame_number;
-      }
-    }
-    if (options_.depth_test) mark_seen_vertices(frame, w);
-
-    for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
-      // No face of such a cluster has weight for this camera (never set for two-sided faces).
-      if (scene_.clusters[first / RenderScene::kClusterSize].all_back_facing(direction)) continue;
-      const std::size_t last = std::min(faces, first + RenderScene::kClusterSize);
-      const std::size_t split = std::clamp(one_sided_, first, last);  // one-sided faces first
-      if (options_.fractional) {
-        tally_faces<true, false>(first, split, direction, frame, w);
-        tally_faces<true, true>(split, last, direction, frame, w);
-      } else {
-        tally_faces<false, false>(first, split, direction, frame, w);
-        tally_faces<false, true>(split, last, direction, frame, w);
-      }
-    }
-    if (options_.fractional) {
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
-      }
-    }
-  }
-
-  // F per face of [first, last): it owns a pixel, or one of its vertices passed the depth
-  // test (vertex_seen stays all zero with the test off). One instance per kind of face, so
-  // the common one (binary F, one side) is a tight loop without data-dependent branches: a
-  // side with q = 0 adds nothing anyway.
-  template <bool Fractional, bool TwoSided>
-  void tally_faces(std::size_t first, std::size_t last, const std::array<float, 3>& direction, const Frame& frame,
-                   Worker& w) const {
-    // Local pointers: the compiler cannot prove the tallies do not alias the inputs.
-    const Face* face = scene_.faces.data();
-    const std::array<float, 3>* normal = face_normals_.data();
-    const std::uint32_t* owned_in_frame = w.seen_in_frame.data();
-    const std::uint8_t* vertex_seen = w.vertex_seen.data();
-    const std::uint32_t frame_number = w.frame_number;
-    FaceTally* front = w.tally.data();
-    FaceTally* back = w.back.data();  // scene faces from one_sided_ on
-    for (std::size_t t = first; t < last; ++t) {
-      const Face& f = face[t];
-      const float cosine = dot(normal[t], direction);
-      const bool owns = Fractional ? w.owned[t] != 0 : owned_in_frame[t] == frame_number;
-      const bool visible = owns | ((vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0);
-      const std::uint32_t q = quantize_weight(cosine);
-      front[t].total += q;
-      if (Fractional) {
-        front[t].seen += visible ? fractional_weight(t, q, frame, w) : 0u;
-      } else {
-        front[t].seen += visible ? q : 0u;
-      }
-      if (TwoSided) {
-        const std::uint32_t qb = quantize_weight(-cosine);
-        FaceTally& b = back[t - one_sided_];
-        b.total += qb;
-        if (Fractional) {
-          b.seen += visible ? fractional_weight(t, qb, frame, w) : 0u;
-        } else {
-          b.seen += visible ? qb : 0u;
-        }
-      }
-    }
-  }
-
-  // Fractional F: q times the fraction of the projected area that owns pixels; a face
-  // smaller than a pixel that is seen at all counts as wholly seen.
-  std::uint32_t fractional_weight(std::size_t t, std::uint32_t q, const Frame& frame, const Worker& w) const {
-    if (q == 0) return 0;
-    const Face& f = scene_.faces[t];
-    const ScreenVertex &a = frame.vertices[f[0]], &b = frame.vertices[f[1]], &c = frame.vertices[f[2]];
-    const float area = 0.5f * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
-    const float fraction = std::min(1.0f, std::max(static_cast<float>(w.owned[t]), 1.0f) / std::max(area, 1.0f));
-    return static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
-  }
-
-  /// Sum of all workers' tallies.
-  void add_to(VisibilityTally& out) const {
-    for (const Worker& w : workers_) {
-      for (std::size_t t = 0; t < w.tally.size(); ++t) {
-        out.seen[t] += w.tally[t].seen;
-        out.total[t] += w.tally[t].total;
-      }
-      for (std::size_t t = 0; t < w.back.size(); ++t) {
-        out.seen_back[t] += w.back[t].seen;
-        out.total_back[t] += w.back[t].total;
-      }
-    }
-  }
-
- private:
-  // The depth test of one vertex against the surface drawn at the four pixel centres
-  // around it (docs/visibility.md, "The depth test"). The vertex is seen when
-  //   - it is no more than the tolerance behind the bilinear interpolation of the four
-  //     depths at the vertex (the surface shown there; exact for a plane, so a face's own
-  //     slope needs no allowance), or
-  //   - one of the four pixels shows the background (it sits on a silhouette) or a face
-  //     that has the vertex as a corner (it lies on the surface shown there).
-  // A slope allowance from the face's own angle, as before, let anything up to ~3 px
-  // behind a thin shell count as seen at grazing views; extending the planes of the faces
-  // shown instead fails on sub-pixel slivers of rounded edges, whose planes tilt anywhere.
-  void mark_seen_vertices(const Frame& frame, Worker& w) const {
-    const int size = frame.resolution();
-    const auto row = static_cast<std::size_t>(size);
-    const float* depth = frame.depth.data();
-    const std::uint32_t* ids = frame.ids.data();
-    const float tolerance = static_cast<float>(options_.depth_tolerance_pixels) / static_cast<float>(size);
-    // A face up to the worst viewing angle changes depth by at most `reach` over 0.71 px:
-    // a vertex farther than that behind every sample is no corner of a face drawn there.
-    const double c = options_.worst_view_cosine;
-    const float reach = static_cast<float>(0.7072 * std::sqrt(1.0 - c * c) / c) / static_cast<float>(size);
-    std::uint8_t* seen = w.vertex_seen.data();
-    std::uint32_t* unsure = w.unsure_vertices.data();
-    std::size_t unsure_count = 0;
-    // Pass 1, branch-free (which case a vertex falls in is a coin toss on a scan): behind the
-    // bilinear surface (which is never nearer than the nearest sample) or not; the vertices
-    // neither clearly seen nor clearly hidden are kept for pass 2.
-    const std::array<float, 3> direction = to_float(frame.view.direction);
-    const VertexCone* cones = scene_.vertex_cones.data();
-    const std::size_t vertex_count = frame.vertices.size();
-    const bool have_cones = scene_.vertex_cones.size() == vertex_count;
-    for (std::size_t i = 0; i < vertex_count; ++i) {
-      // All of the vertex's faces turned away: its test cannot matter (and pass 1 is bound
-      // by its loads: this skips about 45% of the dragon's vertices per camera).
-      if (have_cones && cones[i].all_back_facing(direction)) {
-        seen[i] = 0;
-        continue;
-      }
-      const ScreenVertex& v = frame.vertices[i];
-      // Screen coordinates are positive, so truncation is the floor (or 0 where clamped anyway).
-      const int px = std::min(static_cast<int>(v.x - 0.5f), size - 2);
-      const int py = std::min(static_cast<int>(v.y - 0.5f), size - 2);
-      const std::size_t p = static_cast<std::size_t>(py) * row + static_cast<std::size_t>(px);
-      const float d0 = depth[p], d1 = depth[p + 1], d2 = depth[p + row], d3 = depth[p + row + 1];
-      const float fx = std::clamp(v.x - 0.5f - static_cast<float>(px), 0.0f, 1.0f);
-      const float fy = std::clamp(v.y - 0.5f - static_cast<float>(py), 0.0f, 1.0f);
-      const float below = d0 + (d1 - d0) * fx, above = d2 + (d3 - d2) * fx;
-      const float z = v.depth - tolerance;
-      const bool in_front = z <= below + (above - below) * fy;
-      const bool near = z <= std::max(std::max(d0, d1), std::max(d2, d3)) + reach;
-      seen[i] = in_front ? 1 : 0;
-      unsure[unsure_count] = static_cast<std::uint32_t>(i);
-      unsure_count += static_cast<std::size_t>(!in_front & near);
-    }
-    // Pass 2: on a silhouette (background next to it) or a corner of a face shown next to it.
-    const Face* faces = scene_.faces.data();
-    for (std::size_t k = 0; k < unsure_count; ++k) {
-      const std::uint32_t i = unsure[k];
-      const ScreenVertex& v = frame.vertices[i];
-      const int px = std::min(static_cast<int>(v.x - 0.5f), size - 2);
-      const int py = std::min(static_cast<int>(v.y - 0.5f), size - 2);
-      const std::size_t p = static_cast<std::size_t>(py) * row + static_cast<std::size_t>(px);
-      // All four tested at once, not one after another: the face loads are the cost here.
-      seen[i] = static_cast<std::uint8_t>(seen[i] | shows_corner(faces, ids[p], i) | shows_corner(faces, ids[p + 1], i) |
-                                          shows_corner(faces, ids[p + row], i) |
-                                          shows_corner(faces, ids[p + row + 1], i));
-    }
-  }
-
-  // The pixel shows the background, or a face with corner i.
-  static std::uint8_t shows_corner(const Face* faces, std::uint32_t id, std::uint32_t i) {
-    const Face& f = faces[id != 0 ? id - 1 : 0];
-    // int, not bool, operands: all four compared without branches.
-    return static_cast<std::uint8_t>(int{id == 0} | int{f[0] == i} | int{f[1] == i} | int{f[2] == i});
-  }
-
-  const RenderScene& scene_;
-  const std::vector<std::array<float, 3>>& face_normals_;
-  std::size_t one_sided_;
-  const VisibilityOptions& options_;
-  std::vector<Worker> workers_;
-};
 
 }  // namespace
 
@@ -279,8 +48,10 @@ void check_options(const VisibilityOptions& o) {
   if (!(o.worst_view_cosine > 0 && o.worst_view_cosine <= 1))
     throw OptionError(&o.worst_view_cosine, "VisibilityOptions::worst_view_cosine", "must be in (0, 1]");
   if (!(o.depth_tolerance_pixels >= 0 && o.depth_tolerance_pixels <= 16))
-    throw OptionError(&o.depth_tolerance_pixels, "VisibilityOptions::depth_tolerance_pixels", "must be in [0, 16] pixels");
-  if (o.max_refined_faces == 0) throw OptionError(&o.max_refined_faces, "VisibilityOptions::max_refined_faces", "must be positive");
+    throw OptionError(&o.depth_tolerance_pixels, "VisibilityOptions::depth_tolerance_pixels",
+                      "must be in [0, 16] pixels");
+  if (o.max_refined_faces == 0)
+    throw OptionError(&o.max_refined_faces, "VisibilityOptions::max_refined_faces", "must be positive");
 }
 
 bool back_faces_always_hidden(const Mesh& mesh) {
@@ -402,24 +173,24 @@ TallyKey VisibilityJob::key(const CameraSet& cameras) const {
   return key;
 }
 
-VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t first, std::size_t last,
-                                      Renderer& renderer, RenderObserver* observer, FrameConsumer* also) const {
+VisibilityTally VisibilityJob::render(const CameraSet& cameras, std::size_t first, std::size_t last, Renderer& renderer,
+                                      RenderObserver* observer, FrameConsumer* also) const {
   if (cameras.size() == 0 || cameras.size() > VisibilityTally::kMaxCameras) {
     throw UsageError("a camera set needs 1..65536 cameras, got " + std::to_string(cameras.size()));
   }
   if (first > last || last > cameras.size()) {
-    throw UsageError("camera range " + std::to_string(first) + ":" + std::to_string(last) + " is outside 0:" +
-                     std::to_string(cameras.size()));
+    throw UsageError("camera range " + std::to_string(first) + ":" + std::to_string(last) +
+                     " is outside 0:" + std::to_string(cameras.size()));
   }
   if (renderer.resolution() != resolution_) {
-    throw UsageError("renderer resolution " + std::to_string(renderer.resolution()) +
-                     " differs from the job's " + std::to_string(resolution_));
+    throw UsageError("renderer resolution " + std::to_string(renderer.resolution()) + " differs from the job's " +
+                     std::to_string(resolution_));
   }
   VisibilityTally tally;
   tally.key = key(cameras);
   if (first < last) tally.camera_ranges.emplace_back(first, last);
   tally.reset_sums();
-  TallyConsumer consumer(scene_, unit_normals_, one_sided_scene_faces_, options_);
+  detail::TallyConsumer consumer(scene_, unit_normals_, one_sided_scene_faces_, options_);
   if (also != nullptr) {
     FrameFanOut both({&consumer, also});
     renderer.render(scene_, cameras, first, last, both, observer);
@@ -474,7 +245,8 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
     const double area = norm(face_normal_unnormalized(rendered, rendered.faces[r]));
     add_side(0, parent, area, tally.seen[t], tally.total[t]);
     if (t >= one_sided_scene_faces_) {
-      add_side(1, parent, area, tally.seen_back[t - one_sided_scene_faces_], tally.total_back[t - one_sided_scene_faces_]);
+      add_side(1, parent, area, tally.seen_back[t - one_sided_scene_faces_],
+               tally.total_back[t - one_sided_scene_faces_]);
     }
   }
   out.face_front.assign(input_faces, 0.0f);
@@ -505,7 +277,8 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   }
   out.vertex.assign(input_.num_vertices(), 0.0f);
   for (std::size_t v = 0; v < out.vertex.size(); ++v) {
-    if (vertex_weight[v] > 0) out.vertex[v] = static_cast<float>(std::clamp(vertex_weighted[v] / vertex_weight[v], 0.0, 1.0));
+    if (vertex_weight[v] > 0)
+      out.vertex[v] = static_cast<float>(std::clamp(vertex_weighted[v] / vertex_weight[v], 0.0, 1.0));
   }
   // Faces without a value of their own take the mean of their vertices.
   double area_sum = 0, visible_sum = 0, hidden_area = 0;
@@ -548,25 +321,6 @@ VisibilityOptions options_of(const TallyKey& key) {
   return options;
 }
 
-Rgb visibility_color(double v) {
-  v = std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0);
-  auto mix = [](Rgb a, Rgb b, double t) {
-    Rgb c;
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(a[k] + (b[k] - a[k]) * t));
-    return c;
-  };
-  const Rgb white{255, 255, 255}, red{220, 0, 0}, yellow{240, 220, 0}, green{0, 170, 0};
-  if (v < 1.0 / 3) return mix(white, red, 3 * v);
-  if (v < 2.0 / 3) return mix(red, yellow, 3 * v - 1);
-  return mix(yellow, green, 3 * v - 2);
-}
-
-RgbImage render_visibility_map(const Mesh& mesh, const std::vector<float>& face_visibility, int size) {
-  std::vector<Rgb> colors(mesh.num_faces());
-  for (std::size_t f = 0; f < colors.size(); ++f) colors[f] = visibility_color(face_visibility[f]);
-  return render_face_colors(mesh, colors, size);
-}
-
 Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Renderer& renderer,
                               const VisibilityOptions& options, RenderObserver* observer) {
   const auto start = std::chrono::steady_clock::now();
@@ -578,31 +332,6 @@ Visibility compute_visibility(const Mesh& mesh, const CameraSet& cameras, Render
   out.stats.seconds_render = render_seconds;
   out.stats.seconds_total = seconds_since(start);
   return out;
-}
-
-HiddenRemoval drop_hidden_faces(const Mesh& mesh, const std::vector<float>& face_visibility, double threshold) {
-  if (face_visibility.size() != mesh.num_faces()) {
-    throw UsageError("dropping hidden faces needs V of every face: got " + std::to_string(face_visibility.size()) +
-                     " values for " + std::to_string(mesh.num_faces()) + " faces");
-  }
-  if (!(threshold >= 0 && threshold < 1)) throw UsageError("drop_hidden_faces: the threshold must be in [0, 1)");
-  HiddenRemoval r;
-  std::vector<std::uint8_t> keep(mesh.num_faces(), 0);
-  double total_area = 0;
-  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    const double area = 0.5 * norm(face_normal_unnormalized(mesh, mesh.faces[f]));
-    total_area += area;
-    keep[f] = face_visibility[f] > threshold;
-    if (keep[f]) {
-      r.face_visibility.push_back(face_visibility[f]);
-    } else {
-      ++r.faces_removed;
-      r.area_removed += area;
-    }
-  }
-  r.mesh = keep_faces(mesh, keep);
-  r.area_fraction_removed = total_area > 0 ? r.area_removed / total_area : 0.0;
-  return r;
 }
 
 Visibility visibility_from_face_quality(const Mesh& input) {

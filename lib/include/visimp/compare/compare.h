@@ -62,15 +62,15 @@ struct CompareLevel {
 
 struct CompareResult {
   std::size_t faces_in = 0;
-  double diagonal = 0;      ///< input bounding-box diagonal: relative errors divide by it
-  Visibility visibility;    ///< V of the input (stats empty when read from quality)
+  double diagonal = 0;    ///< input bounding-box diagonal: relative errors divide by it
+  Visibility visibility;  ///< V of the input (stats empty when read from quality)
   bool visibility_from_quality = false;
-  double visibility_exponent = 2;   ///< VG's weighting, as run (SimplifyOptions)
+  double visibility_exponent = 2;  ///< VG's weighting, as run (SimplifyOptions)
   bool crease_visibility = false;
   double seconds_visibility = 0;
-  std::vector<std::size_t> targets;          ///< descending
-  std::vector<CompareLevel> qb, vg;          ///< one per target, same order
-  double seconds_qb = 0, seconds_vg = 0;     ///< each method's whole collapse run
+  std::vector<std::size_t> targets;       ///< descending
+  std::vector<CompareLevel> qb, vg;       ///< one per target, same order
+  double seconds_qb = 0, seconds_vg = 0;  ///< each method's whole collapse run
   /// Per target: 100·(QB − VG)/QB of the image RMS; their mean is Table 2's last column.
   std::vector<double> less_image_error_percent_per_level;
   double less_image_error_percent = 0;

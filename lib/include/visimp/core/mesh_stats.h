@@ -13,16 +13,16 @@ namespace visimp {
 struct MeshStats {
   std::size_t vertices = 0;
   std::size_t faces = 0;
-  std::size_t isolated_vertices = 0;     ///< referenced by no face
-  std::size_t components = 0;            ///< connected components of faces (via shared vertices)
-  std::size_t edges = 0;                 ///< distinct undirected edges
-  std::size_t boundary_edges = 0;        ///< edges with exactly one face
-  std::size_t non_manifold_edges = 0;    ///< edges with three or more faces
-  std::size_t misoriented_edges = 0;     ///< two-face edges traversed in the same direction by both
-  std::size_t non_manifold_vertices = 0; ///< vertices whose faces form more than one fan
-  std::size_t degenerate_faces = 0;      ///< zero area (collinear or repeated vertices)
-  std::size_t duplicate_faces = 0;       ///< faces with the same vertex set as an earlier face
-  double area = 0;                       ///< total surface area, input units
+  std::size_t isolated_vertices = 0;      ///< referenced by no face
+  std::size_t components = 0;             ///< connected components of faces (via shared vertices)
+  std::size_t edges = 0;                  ///< distinct undirected edges
+  std::size_t boundary_edges = 0;         ///< edges with exactly one face
+  std::size_t non_manifold_edges = 0;     ///< edges with three or more faces
+  std::size_t misoriented_edges = 0;      ///< two-face edges traversed in the same direction by both
+  std::size_t non_manifold_vertices = 0;  ///< vertices whose faces form more than one fan
+  std::size_t degenerate_faces = 0;       ///< zero area (collinear or repeated vertices)
+  std::size_t duplicate_faces = 0;        ///< faces with the same vertex set as an earlier face
+  double area = 0;                        ///< total surface area, input units
   BoundingBox bbox;
 
   /// Closed 2-manifold: no boundary, no non-manifold edge or vertex.

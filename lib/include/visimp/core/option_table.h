@@ -13,10 +13,10 @@
 namespace visimp {
 
 struct OptionSpec {
-  std::string flag;          ///< "--max-error"
-  std::string value_name;    ///< "E"; empty for a switch that takes no value
-  std::string help;          ///< meaning, unit and range
-  std::string default_text;  ///< the field's value when the spec was made
+  std::string flag;                           ///< "--max-error"
+  std::string value_name;                     ///< "E"; empty for a switch that takes no value
+  std::string help;                           ///< meaning, unit and range
+  std::string default_text;                   ///< the field's value when the spec was made
   std::function<void(std::string_view)> set;  ///< parses a value into the field; throws UsageError
   /// Non-empty: the value may be left out ("--drop-hidden" means "--drop-hidden 0"); a value
   /// is then taken only as "--flag=V" or when the next argument is a number.

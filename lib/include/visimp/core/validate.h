@@ -11,15 +11,15 @@
 namespace visimp {
 
 struct ValidationReport {
-  std::size_t out_of_range_indices = 0;    ///< face indices >= num_vertices
-  std::size_t non_finite_coordinates = 0;  ///< vertices with a NaN or infinite coordinate
-  std::size_t quality_size_mismatches = 0; ///< quality arrays neither empty nor one per element
-  std::size_t non_finite_quality = 0;      ///< NaN or infinite quality values
-  std::string first_problem;               ///< human-readable description of the first issue
+  std::size_t out_of_range_indices = 0;     ///< face indices >= num_vertices
+  std::size_t non_finite_coordinates = 0;   ///< vertices with a NaN or infinite coordinate
+  std::size_t quality_size_mismatches = 0;  ///< quality arrays neither empty nor one per element
+  std::size_t non_finite_quality = 0;       ///< NaN or infinite quality values
+  std::string first_problem;                ///< human-readable description of the first issue
 
   bool ok() const {
-    return out_of_range_indices == 0 && non_finite_coordinates == 0 &&
-           quality_size_mismatches == 0 && non_finite_quality == 0;
+    return out_of_range_indices == 0 && non_finite_coordinates == 0 && quality_size_mismatches == 0 &&
+           non_finite_quality == 0;
   }
 };
 

@@ -2,16 +2,17 @@
 //
 // Capability table (what a round trip through each format keeps):
 //
-// | format | read                         | write             | shared vertices | vertex quality | face quality | isolated vertices |
+// | format | read                         | write             | shared vertices | vertex quality | face quality |
+// isolated vertices |
 // |--------|------------------------------|-------------------|-----------------|----------------|--------------|-------------------|
-// | PLY    | ascii, binary LE/BE, any     | binary LE, ascii  | yes             | yes            | yes          | yes               |
-// |        | scalar type, extra props     |                   |                 |                |              |                   |
-// |        | and elements skipped         |                   |                 |                |              |                   |
-// | OBJ    | v, f (a, a/b, a//c, a/b/c,   | v, f              | yes             | no             | no           | yes               |
-// |        | negative indices)            |                   |                 |                |              |                   |
-// | OFF    | OFF/COFF/NOFF headers,       | OFF               | yes             | no             | no           | yes               |
-// |        | colours skipped              |                   |                 |                |              |                   |
-// | STL    | binary, ascii                | binary, ascii     | welded on read  | no             | no           | no                |
+// | PLY    | ascii, binary LE/BE, any     | binary LE, ascii  | yes             | yes            | yes          | yes |
+// |        | scalar type, extra props     |                   |                 |                |              | | |
+// | and elements skipped         |                   |                 |                |              | | | OBJ    |
+// v, f (a, a/b, a//c, a/b/c,   | v, f              | yes             | no             | no           | yes | |        |
+// negative indices)            |                   |                 |                |              | | | OFF    |
+// OFF/COFF/NOFF headers,       | OFF               | yes             | no             | no           | yes | |        |
+// colours skipped              |                   |                 |                |              | | | STL    |
+// binary, ascii                | binary, ascii     | welded on read  | no             | no           | no |
 //
 // Polygons with more than 3 vertices are fan-triangulated on read; a face with fewer than 3
 // vertices is an error (never silently dropped). Every reader throws IoError naming the file

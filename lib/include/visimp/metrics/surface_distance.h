@@ -46,9 +46,9 @@ struct SurfaceDistanceOptions {
 
 /// Distances from the samples of one surface to the other, in input units.
 struct DirectedDistance {
-  double max = 0;   ///< one-sided Hausdorff distance (sampled)
-  double mean = 0;  ///< area-weighted mean
-  double rms = 0;   ///< area-weighted root mean square
+  double max = 0;                ///< one-sided Hausdorff distance (sampled)
+  double mean = 0;               ///< area-weighted mean
+  double rms = 0;                ///< area-weighted root mean square
   std::size_t samples = 0;       ///< all samples (vertex + edge + face)
   std::size_t face_samples = 0;  ///< those that carry area
   double area = 0;               ///< area of the sampled surface
@@ -58,7 +58,7 @@ struct DirectedDistance {
 
 /// A→B again, each face sample weighted by its area times V of its face in A.
 struct VisibleDistance {
-  double max = 0;   ///< over samples on faces with V > 0
+  double max = 0;  ///< over samples on faces with V > 0
   double mean = 0;
   double rms = 0;
   double visible_area = 0;  ///< Σ area·V
@@ -66,12 +66,12 @@ struct VisibleDistance {
 
 struct SurfaceDistance {
   DirectedDistance a_to_b, b_to_a;
-  double hausdorff = 0;   ///< max of both directions
-  double rms = 0;         ///< RMS over the samples of both directions, area-weighted
-  double diagonal = 0;    ///< bounding-box diagonal of A: divide by it for relative numbers
-  VisibleDistance visible;           ///< when options.face_visibility is given
-  std::vector<float> vertex_error;   ///< when options.vertex_errors: per vertex of A, input units
-  std::vector<float> face_error;     ///< when options.vertex_errors: per face of A, the largest of its samples
+  double hausdorff = 0;             ///< max of both directions
+  double rms = 0;                   ///< RMS over the samples of both directions, area-weighted
+  double diagonal = 0;              ///< bounding-box diagonal of A: divide by it for relative numbers
+  VisibleDistance visible;          ///< when options.face_visibility is given
+  std::vector<float> vertex_error;  ///< when options.vertex_errors: per vertex of A, input units
+  std::vector<float> face_error;    ///< when options.vertex_errors: per face of A, the largest of its samples
   double seconds = 0;
   double seconds_sampling = 0, seconds_index = 0, seconds_queries = 0;
 };

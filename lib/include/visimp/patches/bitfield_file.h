@@ -18,22 +18,28 @@ namespace visimp {
 struct BitfieldSet {
   static constexpr std::uint32_t kVersion = 1;
 
-  std::uint64_t mesh_hash = 0;      ///< hash_mesh() of the mesh the bits describe
-  std::uint64_t faces = 0;          ///< its face count
-  bool per_face = false;            ///< units are faces (ID-bitfields), face_patch is empty
+  std::uint64_t mesh_hash = 0;  ///< hash_mesh() of the mesh the bits describe
+  std::uint64_t faces = 0;      ///< its face count
+  bool per_face = false;        ///< units are faces (ID-bitfields), face_patch is empty
   bool neighbour_fill = false;
-  bool depth_test = false;          ///< thin faces were set by the depth test
+  bool depth_test = false;  ///< thin faces were set by the depth test
   std::uint64_t transparent_faces = 0;
-  std::uint32_t resolution = 0;     ///< of the sampling frames
-  Vec3 center;                      ///< the sampling sphere, in mesh coordinates
+  std::uint32_t resolution = 0;  ///< of the sampling frames
+  Vec3 center;                   ///< the sampling sphere, in mesh coordinates
   double radius = 1;
   CameraSet cameras;
   std::vector<std::uint32_t> face_patch;  ///< per face, when !per_face
-  Bitfields bits;                   ///< units × cameras
+  Bitfields bits;                         ///< units × cameras
 
   /// Patch of face f (f itself for ID-bitfields).
   std::uint32_t unit_of(std::size_t f) const { return per_face ? static_cast<std::uint32_t>(f) : face_patch[f]; }
 };
+
+/// Everything a BitfieldSet says about how its bits were made, filled in one place (mesh hash
+/// and faces, units, flags, sampling sphere, cameras, resolution); the bits themselves are
+/// left empty for the caller to record. `per_face`: the units are the faces (ID-bitfields).
+BitfieldSet make_bitfield_set(const Mesh& mesh, const PatchPartition& partition, bool per_face, const CameraSet& cameras,
+                              int resolution, const BitfieldOptions& options);
 
 struct BitfieldFileSizes {
   std::uint64_t header = 0, directions = 0, patch_map = 0, bitfields = 0, total = 0;

@@ -39,9 +39,7 @@ struct Bitfields {
   void set(std::size_t camera, std::size_t unit) { row(camera)[unit >> 6] |= std::uint64_t{1} << (unit & 63); }
   /// Set bits of a row.
   std::size_t count(std::size_t camera) const;
-  bool operator==(const Bitfields& o) const {
-    return units == o.units && cameras == o.cameras && words == o.words;
-  }
+  bool operator==(const Bitfields& o) const { return units == o.units && cameras == o.cameras && words == o.words; }
 };
 
 /// Calls `f(unit)` for every set bit of `words_per_row` words, in increasing order.

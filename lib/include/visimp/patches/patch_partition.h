@@ -33,10 +33,10 @@ void check_options(const PatchOptions& options);
 struct PatchPartition {
   /// Patch of every face. Patches are numbered by their lowest face index.
   std::vector<std::uint32_t> face_patch;
-  std::vector<double> area;            ///< per patch
-  std::vector<double> diagonal;        ///< per patch: its vertices' bounding-box diagonal
+  std::vector<double> area;               ///< per patch
+  std::vector<double> diagonal;           ///< per patch: its vertices' bounding-box diagonal
   std::vector<std::uint32_t> face_count;  ///< per patch
-  std::size_t components = 0;          ///< edge-connected components of the mesh (a lower bound on the count)
+  std::size_t components = 0;             ///< edge-connected components of the mesh (a lower bound on the count)
   double seconds = 0;
 
   std::size_t patch_count() const { return area.size(); }

@@ -23,8 +23,8 @@ namespace visimp {
 
 struct PatchStudyOptions {
   std::vector<std::size_t> patch_counts = {50, 200, 1000, 2000};  ///< ID-bitfields (one unit per face) always come too
-  int max_level = 4;            ///< octahedron levels 0..max_level: 6 .. 1026 cameras (5: 4098)
-  int pixel_level = -1;         ///< level of the pixel and timing checks; -1 = max_level
+  int max_level = 4;              ///< octahedron levels 0..max_level: 6 .. 1026 cameras (5: 4098)
+  int pixel_level = -1;           ///< level of the pixel and timing checks; -1 = max_level
   std::size_t viewpoints = 1000;  ///< random viewpoints for the culling rates
   std::size_t pixel_views = 20;   ///< random viewpoints rendered full and reconstructed
   std::size_t timing_frames = 4;  ///< frames timed per viewpoint and mesh with the timing renderer
@@ -37,7 +37,7 @@ struct PatchStudyOptions {
 void check_options(const PatchStudyOptions& options);
 
 struct CullingPoint {
-  std::string unit;        ///< "patches" or "faces"
+  std::string unit;         ///< "patches" or "faces"
   std::size_t patches = 0;  ///< units (the face count for "faces")
   std::size_t cameras = 0;
   double culling_rate = 0;  ///< mean over viewpoints of 1 − drawn faces / faces
@@ -47,14 +47,14 @@ struct CullingPoint {
 struct PixelCheck {
   std::string unit;
   std::size_t patches = 0, cameras = 0, views = 0;
-  std::uint64_t differing_pixels = 0;   ///< face ID differs, summed over views
+  std::uint64_t differing_pixels = 0;  ///< face ID differs, summed over views
   /// Of those, pixels whose depth differs too (by > 1e-5 of the view depth): holes and
   /// faces behind them, not a coplanar face of another part winning a depth tie.
   std::uint64_t depth_differing_pixels = 0;
   std::uint64_t max_differing_pixels = 0;  ///< in the worst view
   std::size_t views_with_differences = 0;
-  std::uint64_t mesh_pixels = 0;        ///< pixels showing the full mesh, summed over views
-  double drawn_fraction = 0;            ///< mean over views
+  std::uint64_t mesh_pixels = 0;                                    ///< pixels showing the full mesh, summed over views
+  double drawn_fraction = 0;                                        ///< mean over views
   double seconds_per_frame_full = 0, seconds_per_frame_culled = 0;  ///< 0 without a timing renderer
 };
 

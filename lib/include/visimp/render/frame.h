@@ -59,7 +59,7 @@ struct RenderScene {
 
   std::vector<std::array<float, 3>> positions;
   std::vector<Face> faces;
-  double radius = 1;             ///< bounding-sphere radius, in the units of `positions`
+  double radius = 1;  ///< bounding-sphere radius, in the units of `positions`
   /// Faces [0, culled_faces) are not drawn when they turn their back to the camera (exact
   /// only for faces of closed, outward-wound surfaces: see core/orientation.h); the rest
   /// are drawn from both sides.
@@ -102,9 +102,9 @@ void project_vertices(const RenderScene& scene, const OrthoView& view, std::vect
 
 struct Frame {
   OrthoView view;
-  std::vector<std::uint32_t> ids;       ///< R×R, face index + 1, 0 = background
-  std::vector<float> depth;             ///< R×R, 0 nearest .. 1 far/background
-  std::vector<ScreenVertex> vertices;   ///< every scene vertex projected with `view`
+  std::vector<std::uint32_t> ids;      ///< R×R, face index + 1, 0 = background
+  std::vector<float> depth;            ///< R×R, 0 nearest .. 1 far/background
+  std::vector<ScreenVertex> vertices;  ///< every scene vertex projected with `view`
 
   int resolution() const { return view.resolution; }
 };

@@ -22,8 +22,8 @@ namespace visimp {
 std::unique_ptr<Renderer> make_osmesa_renderer(const RenderOptions& options);
 
 /// Process-wide and once: glibc keeps freed memory up to 512 MiB instead of trimming it, so
-/// llvmpipe's per-frame buffers are reused rather than faulted in again. Opt-in, for programs that own their process (the visimp
-/// apps and benchmarks call it); glibc only.
+/// llvmpipe's per-frame buffers are reused rather than faulted in again. Opt-in, for programs that own their process
+/// (the visimp apps and benchmarks call it); glibc only.
 void keep_allocator_memory_for_osmesa();
 
 }  // namespace visimp

@@ -30,13 +30,18 @@ class JsonWriter {
   JsonWriter& value(const char* v) { return value(std::string_view(v)); }
 
   template <class T>
-  JsonWriter& field(std::string_view name, const T& v) { return key(name).value(v); }
+  JsonWriter& field(std::string_view name, const T& v) {
+    return key(name).value(v);
+  }
 
  private:
   void before_value();
   void newline();
   std::ostream& out_;
-  struct Level { bool array; bool empty; };
+  struct Level {
+    bool array;
+    bool empty;
+  };
   std::vector<Level> stack_;
   bool after_key_ = false;
 };

@@ -23,15 +23,33 @@ struct Quadric {
   static Quadric plane(const Vec3& n, const Vec3& point, double weight);
 
   Quadric& operator+=(const Quadric& o) {  // inline: the collapse loop's hottest operation
-    a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
-    b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c; area += o.area;
+    a00 += o.a00;
+    a01 += o.a01;
+    a02 += o.a02;
+    a11 += o.a11;
+    a12 += o.a12;
+    a22 += o.a22;
+    b0 += o.b0;
+    b1 += o.b1;
+    b2 += o.b2;
+    c += o.c;
+    area += o.area;
     return *this;
   }
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
   /// Scales every term (and the area): the VG weights V(t)².
   Quadric& operator*=(double s) {
-    a00 *= s; a01 *= s; a02 *= s; a11 *= s; a12 *= s; a22 *= s;
-    b0 *= s; b1 *= s; b2 *= s; c *= s; area *= s;
+    a00 *= s;
+    a01 *= s;
+    a02 *= s;
+    a11 *= s;
+    a12 *= s;
+    a22 *= s;
+    b0 *= s;
+    b1 *= s;
+    b2 *= s;
+    c *= s;
+    area *= s;
     return *this;
   }
   friend Quadric operator*(Quadric a, double s) { return a *= s; }
@@ -42,8 +60,8 @@ struct Quadric {
   /// (q + r)(p) without storing the sum: VG's cost per candidate edge. The arithmetic is
   /// (q + r).evaluate(p)'s, so the bits are too (with V ≡ 1 the cost must equal QB's key).
   static double evaluate_sum(const Quadric& q, const Quadric& r, const Vec3& p) {
-    return evaluate_terms(q.a00 + r.a00, q.a01 + r.a01, q.a02 + r.a02, q.a11 + r.a11, q.a12 + r.a12,
-                          q.a22 + r.a22, q.b0 + r.b0, q.b1 + r.b1, q.b2 + r.b2, q.c + r.c, p);
+    return evaluate_terms(q.a00 + r.a00, q.a01 + r.a01, q.a02 + r.a02, q.a11 + r.a11, q.a12 + r.a12, q.a22 + r.a22,
+                          q.b0 + r.b0, q.b1 + r.b1, q.b2 + r.b2, q.c + r.c, p);
   }
 
  private:

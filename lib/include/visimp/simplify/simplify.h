@@ -74,17 +74,17 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& options);
 void check_options(const SimplifyOptions& options);
 
 enum class StopReason {
-  target_reached,      ///< face count <= target
-  error_limit,         ///< every remaining collapse would exceed max_error
-  no_legal_collapse,   ///< target not reached: every remaining edge is locked or illegal
-  nothing_to_do,       ///< the input already had no more faces than the target
+  target_reached,     ///< face count <= target
+  error_limit,        ///< every remaining collapse would exceed max_error
+  no_legal_collapse,  ///< target not reached: every remaining edge is locked or illegal
+  nothing_to_do,      ///< the input already had no more faces than the target
 };
 const char* to_string(StopReason reason);
 
 struct SimplifyResult {
   std::size_t faces_in = 0, faces_out = 0;
   std::size_t vertices_in = 0, vertices_out = 0;
-  std::size_t target_faces = 0;        ///< the target in effect (0 when only max_error stops)
+  std::size_t target_faces = 0;  ///< the target in effect (0 when only max_error stops)
   std::size_t collapses = 0;
   std::size_t rejected_collapses = 0;  ///< candidates refused by a legality filter (counted per attempt)
   std::size_t locked_vertices = 0;     ///< vertices never moved: non-manifold, misoriented, frozen boundary

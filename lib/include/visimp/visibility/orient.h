@@ -18,10 +18,10 @@ struct OrientOptions {
 };
 
 struct OrientResult {
-  Mesh mesh;                        ///< the input with some faces reversed (qualities kept)
-  std::size_t reversed = 0;         ///< faces turned
+  Mesh mesh;                             ///< the input with some faces reversed (qualities kept)
+  std::size_t reversed = 0;              ///< faces turned
   std::size_t seen_from_both_sides = 0;  ///< left as they were
-  std::size_t never_seen = 0;       ///< wound like their surface
+  std::size_t never_seen = 0;            ///< wound like their surface
 };
 
 /// `visibility` must come from compute_visibility on `mesh` (face_front / face_back per face).

@@ -17,9 +17,9 @@
 namespace visimp {
 
 struct RefinedMesh {
-  Mesh mesh;                                ///< positions and faces only
-  std::vector<std::uint32_t> input_face;    ///< per sub-face: the input face it lies in
-  int rounds = 0;                           ///< midpoint rounds that were needed
+  Mesh mesh;                              ///< positions and faces only
+  std::vector<std::uint32_t> input_face;  ///< per sub-face: the input face it lies in
+  int rounds = 0;                         ///< midpoint rounds that were needed
 };
 
 /// l from the paper's rule: a pixel of the R×R view of the bounding sphere (radius r) is

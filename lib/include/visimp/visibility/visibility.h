@@ -63,24 +63,24 @@ void check_options(const VisibilityOptions& options);
 
 struct VisibilityStats {
   std::size_t input_faces = 0;
-  std::size_t refined_faces = 0;       ///< faces rendered (= input_faces when no refinement)
+  std::size_t refined_faces = 0;  ///< faces rendered (= input_faces when no refinement)
   int refinement_rounds = 0;
-  double max_edge_length = 0;          ///< l, input units
+  double max_edge_length = 0;  ///< l, input units
   std::size_t cameras = 0;
   int resolution = 0;
-  bool back_faces_culled = false;      ///< every face lies on a closed outward surface: all culled
-  std::size_t one_sided_faces = 0;     ///< input faces on closed surfaces: front side only, culled
-  std::size_t two_sided_faces = 0;     ///< input faces of open or non-manifold surfaces: both sides
-  std::size_t seen_from_behind = 0;    ///< input faces whose better-seen side is their back
-  std::size_t degenerate_faces = 0;    ///< zero area: V is the mean of their vertices' V
-  std::size_t unfaced_faces = 0;       ///< no camera in front of them: V likewise from vertices
-  std::size_t hidden_faces = 0;        ///< V = 0: no camera saw any part of them
-  double hidden_area_fraction = 0;     ///< their share of the surface area
+  bool back_faces_culled = false;    ///< every face lies on a closed outward surface: all culled
+  std::size_t one_sided_faces = 0;   ///< input faces on closed surfaces: front side only, culled
+  std::size_t two_sided_faces = 0;   ///< input faces of open or non-manifold surfaces: both sides
+  std::size_t seen_from_behind = 0;  ///< input faces whose better-seen side is their back
+  std::size_t degenerate_faces = 0;  ///< zero area: V is the mean of their vertices' V
+  std::size_t unfaced_faces = 0;     ///< no camera in front of them: V likewise from vertices
+  std::size_t hidden_faces = 0;      ///< V = 0: no camera saw any part of them
+  double hidden_area_fraction = 0;   ///< their share of the surface area
   double seconds_refine = 0, seconds_render = 0, seconds_aggregate = 0, seconds_total = 0;
 };
 
 struct Visibility {
-  std::vector<float> face;    ///< V(t) per input face, in [0, 1]: the better-seen side
+  std::vector<float> face;  ///< V(t) per input face, in [0, 1]: the better-seen side
   /// Per input face, V of each side: front = where the input's normal points. One of them
   /// is 0 for a face of a closed surface (its inside is never seen).
   std::vector<float> face_front, face_back;
@@ -123,8 +123,9 @@ class VisibilityJob {
   int resolution_;
   std::optional<RefinedMesh> refined_;
   RenderScene scene_;
-  std::vector<std::uint32_t> scene_order_;          ///< scene face → face of rendered_mesh()
-  std::size_t one_sided_scene_faces_ = 0;           ///< the scene's first faces: front side only (and culled, unless trust_winding)
+  std::vector<std::uint32_t> scene_order_;  ///< scene face → face of rendered_mesh()
+  std::size_t one_sided_scene_faces_ =
+      0;  ///< the scene's first faces: front side only (and culled, unless trust_winding)
   std::vector<std::array<float, 3>> unit_normals_;  ///< per refined face, zero if degenerate
   std::uint64_t mesh_hash_ = 0;
   VisibilityStats stats_;
@@ -155,8 +156,8 @@ struct HiddenRemoval {
   Mesh mesh;  ///< faces with V > threshold and the vertices they or no face use, both in input order
   std::vector<float> face_visibility;  ///< V of the kept faces
   std::size_t faces_removed = 0;
-  double area_removed = 0;             ///< input units²
-  double area_fraction_removed = 0;    ///< of the input's total area
+  double area_removed = 0;           ///< input units²
+  double area_fraction_removed = 0;  ///< of the input's total area
 };
 
 /// Removes every face with V ≤ threshold (threshold in [0, 1); 0 removes exactly the faces
