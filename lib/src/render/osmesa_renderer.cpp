@@ -42,7 +42,7 @@ void main() { face = id; }
 )";
 
 constexpr const char* kNoContext =
-    "osmesa: cannot create an OpenGL 4.5 core context (Mesa's llvmpipe needed; use --backend raster)";
+    "osmesa: cannot create an OpenGL 4.5 core context (Mesa's llvmpipe needed; the raster backend needs no GL)";
 constexpr int kContextAttributes[] = {OSMESA_FORMAT,
                                       OSMESA_RGBA,
                                       OSMESA_DEPTH_BITS,
