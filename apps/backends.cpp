@@ -1,4 +1,5 @@
 #include "backends.h"
+#include "cli.h"
 
 #include <algorithm>
 
@@ -27,8 +28,9 @@ std::vector<OptionSpec> describe_options(SamplingOptions& o) {
 }
 
 RenderOptions render_options(const SamplingOptions& o) {
-  if (o.resolution > 8192) throw UsageError("--resolution must be in 16..8192");
-  return {static_cast<int>(o.resolution), static_cast<unsigned>(std::min<std::size_t>(o.threads, 4096))};
+  check_pixels(o.resolution, "--resolution");
+  if (o.threads > kMaxThreads) throw UsageError("--threads must be at most " + std::to_string(kMaxThreads));
+  return {static_cast<int>(o.resolution), static_cast<unsigned>(o.threads)};
 }
 
 }  // namespace visimp::app

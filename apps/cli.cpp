@@ -40,6 +40,12 @@ bool ArgParser::given(const std::string& flag) const {
   return std::find(given_.begin(), given_.end(), flag) != given_.end();
 }
 
+void check_pixels(std::size_t pixels, const std::string& flag) {
+  if (pixels < static_cast<std::size_t>(kMinResolution) || pixels > static_cast<std::size_t>(kMaxResolution)) {
+    throw UsageError(flag + " must be in " + std::to_string(kMinResolution) + ".." + std::to_string(kMaxResolution));
+  }
+}
+
 std::string version_line() { return std::string("visimp ") + VISIMP_VERSION; }
 
 std::string describe_option_error(const OptionError& e) {

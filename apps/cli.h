@@ -57,6 +57,11 @@ class ArgParser {
 /// "--ratio must be ..." for a field a flag was bound to, the library's own words otherwise.
 std::string describe_option_error(const OptionError& e);
 
+/// Throws UsageError "FLAG must be in 16..8192" unless `pixels` is a size every renderer takes.
+void check_pixels(std::size_t pixels, const std::string& flag);
+/// The size of the pictures the apps write (--png, error and patch maps).
+inline constexpr int kPictureSize = 800;
+
 /// "visimp 0.1.0".
 std::string version_line();
 

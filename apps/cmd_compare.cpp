@@ -73,11 +73,11 @@ int run_compare(const Args& args) {
   parser.add(switch_spec("--json", stream.json, "print a machine-readable JSON summary"));
   if (!parser.parse(args)) return 0;
   if (!targets_text.empty()) options.targets = parse_count_list(targets_text, "--targets");
-  if (image_resolution < 16 || image_resolution > 8192) throw UsageError("--image-resolution must be in 16..8192");
+  check_pixels(image_resolution, "--image-resolution");
   options.image.resolution = static_cast<int>(image_resolution);
   if (image_supersample < 1 || image_supersample > 8) throw UsageError("--image-supersample must be in 1..8");
   options.image.supersample = static_cast<int>(image_supersample);
-  options.image.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, 4096));
+  options.image.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, kMaxThreads));
   options.simplify.target_ratio = 0.5;  // placeholder so check_options accepts it; levels set the targets
   if (!(options.min_ratio > 0 && options.min_ratio <= options.max_ratio && options.max_ratio < 1))
     throw UsageError("--min-ratio and --max-ratio must satisfy 0 < min <= max < 1");

@@ -113,7 +113,7 @@ int run_metro(const Args& args) {
     std::vector<Rgb> colors(a.num_faces());
     for (std::size_t f = 0; f < colors.size(); ++f)
       colors[f] = heat_color(d.a_to_b.max > 0 ? d.face_error[f] / d.a_to_b.max : 0.0);
-    write_png(error_png, render_face_colors(a, colors, 800));
+    write_png(error_png, render_face_colors(a, colors, kPictureSize));
   }
   if (stream.json) {
     JsonWriter json(std::cout);
@@ -188,7 +188,7 @@ int run_imgerr(const Args& args) {
                          "write P0.png..P19.png: |I_A - I_B| in the red channel"));
   parser.add(describe_options(stream, false));
   if (!parser.parse(args)) return 0;
-  if (resolution < 16 || resolution > 8192) throw UsageError("--resolution must be in 16..8192");
+  check_pixels(resolution, "--resolution");
   options.resolution = static_cast<int>(resolution);
   if (supersample < 1 || supersample > 8) throw UsageError("--supersample must be in 1..8");
   options.supersample = static_cast<int>(supersample);

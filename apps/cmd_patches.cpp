@@ -141,7 +141,7 @@ int run_build(const Args& args) {
     const auto palette = patch_colors(partition.patch_count());
     std::vector<Rgb> colors(mesh.num_faces());
     for (std::size_t f = 0; f < mesh.num_faces(); ++f) colors[f] = palette[partition.face_patch[f]];
-    write_png(patch_png, render_face_colors(mesh, colors, 800));
+    write_png(patch_png, render_face_colors(mesh, colors, kPictureSize));
   }
   if (visibility) {
     Mesh with = mesh;

@@ -73,7 +73,7 @@ int run_visibility(const Args& args) {
   SamplingOptions sampling;
   StreamOptions stream;
   std::string png, tally_path, range_text;
-  std::size_t png_size = 800;
+  std::size_t png_size = kPictureSize;
   ArgParser parser(
       "visimp visibility IN [OUT.ply] [--cameras SET] [--resolution R] [--backend raster|osmesa] [options]",
       "Computes the visibility V(t) of every face of IN (Zhang & Turk 2002) and writes it to OUT.ply as\n"
@@ -94,7 +94,7 @@ int run_visibility(const Args& args) {
   const std::string out = parser.positionals().size() > 1 ? parser.positionals()[1] : "";
   if (out.empty() && tally_path.empty()) throw UsageError("give OUT.ply, or --tally FILE for a slice");
   if (!out.empty()) require_ply(out, stream);
-  if (png_size < 16 || png_size > 8192) throw UsageError("--png-size must be in 16..8192");
+  check_pixels(png_size, "--png-size");
   const CameraSet cameras = camera_set_from_spec(sampling.cameras);
   const auto [first, last] = parse_camera_range(range_text, cameras.size());
   const auto renderer = make_renderer(sampling.backend, render_options(sampling));

@@ -164,10 +164,13 @@ Frame render_view(Renderer& renderer, const RenderScene& scene, const Vec3& dire
 }
 
 void check_render_options(const RenderOptions& options) {
-  if (options.resolution < 16 || options.resolution > 8192) {
-    throw UsageError("resolution " + std::to_string(options.resolution) + " is outside 16..8192");
+  if (options.resolution < kMinResolution || options.resolution > kMaxResolution) {
+    throw OptionError(&options.resolution, "RenderOptions::resolution",
+                      "must be in " + std::to_string(kMinResolution) + ".." + std::to_string(kMaxResolution) +
+                          ", got " + std::to_string(options.resolution));
   }
-  if (options.threads > 1024) throw UsageError("thread count " + std::to_string(options.threads) + " is above 1024");
+  if (options.threads > kMaxThreads)
+    throw OptionError(&options.threads, "RenderOptions::threads", "must be at most " + std::to_string(kMaxThreads));
 }
 
 void for_each_camera(std::size_t first, std::size_t last, unsigned workers, RenderObserver* observer,

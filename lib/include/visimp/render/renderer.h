@@ -43,6 +43,10 @@ class FrameFanOut final : public FrameConsumer {
   std::vector<FrameConsumer*> consumers_;
 };
 
+/// Frame sizes every renderer and picture accepts, and the most worker threads it starts.
+inline constexpr int kMinResolution = 16, kMaxResolution = 8192;
+inline constexpr unsigned kMaxThreads = 1024;
+
 struct RenderOptions {
   int resolution = 480;  ///< frame width and height in pixels, 16..8192
   unsigned threads = 0;  ///< worker threads; 0 = one per hardware thread
