@@ -119,6 +119,20 @@ TEST(SvgPlot, PointLabelsNeverOverlapAndTheEndsOfASeriesAreKept) {
   }
 }
 
+// Found by the visibility study's plot: a log range holding no 1-2-5 value at all (its
+// seconds between 5.2 and 7.7 ms) looped until a counter overflowed (SIGFPE).
+TEST(SvgPlot, LogRangeBetweenTwoNiceValuesGetsTicks) {
+  SvgPlot plot;
+  plot.log_x = plot.log_y = true;
+  PlotSeries s;
+  s.points = {{0.0052, 0.042}, {0.0077, 0.021}};
+  plot.series.push_back(s);
+  std::ostringstream out;
+  plot.write(out);
+  EXPECT_NE(out.str().find("</svg>"), std::string::npos);
+  EXPECT_GE(texts(out.str(), "tick-x").size(), 2u);
+}
+
 TEST(SvgPlot, NonPositivePointsAreLeftOffALogAxis) {
   const std::string svg = render(one_series({{1, 0.0}, {2, 1e-3}, {3, 1e-1}}, false, true));
   const std::regex circle("<circle ");

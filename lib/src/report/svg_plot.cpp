@@ -141,17 +141,25 @@ Axis log_axis(double lo, double hi, int max_ticks, bool widened = false) {
   axis.hi = hi;
   const std::vector<std::vector<double>> sets = {{1, 2, 5}, {1}};
   std::vector<double> denser;
+  bool fitted = false;
   for (const std::vector<double>& set : sets) {
     std::vector<double> t = log_values(lo, hi, set, 1);
     if (static_cast<int>(t.size()) <= max_ticks) {
       axis.ticks = t.size() >= 2 || denser.empty() ? t : denser;  // two ticks a little too close beat one
+      fitted = true;
       break;
     }
     denser = std::move(t);
   }
-  for (int every = 2; axis.ticks.empty(); ++every) {
+  // Too many decades even for whole ones: every 2nd, 3rd... (ends: one decade in `every` is
+  // at most one tick). Not entered when a set fitted with no tick at all — a range between two
+  // 1-2-5 values — which the fallbacks below handle (looping on it overflowed `every`).
+  for (int every = 2; !fitted; ++every) {
     std::vector<double> t = log_values(lo, hi, {1}, every);
-    if (static_cast<int>(t.size()) <= max_ticks) axis.ticks = std::move(t);
+    if (static_cast<int>(t.size()) <= max_ticks) {
+      axis.ticks = std::move(t);
+      fitted = true;
+    }
   }
   if (axis.ticks.size() >= 3 || widened) return axis;
   // Half as many as allowed: a log axis squeezes linear steps together at its top.
