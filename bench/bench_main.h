@@ -3,6 +3,7 @@
 // fall back to the bundled ones, saying so, when ../shared/meshes is absent.
 #pragma once
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -65,11 +66,8 @@ inline std::vector<std::string> default_meshes(
   }
   // Two shared meshes may fall back to the same bundled one: measure it once.
   std::vector<std::string> unique;
-  for (const std::string& p : paths) {
-    bool seen = false;
-    for (const std::string& u : unique) seen = seen || u == p;
-    if (!seen) unique.push_back(p);
-  }
+  for (const std::string& p : paths)
+    if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
   if (unique.empty()) throw visimp::UsageError("no mesh to measure: give mesh paths as arguments");
   return unique;
 }

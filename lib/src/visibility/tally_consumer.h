@@ -4,8 +4,10 @@
 // Per camera, on the worker that rendered the frame:
 //   1. every pixel marks the face it shows as seen (binary F: the frame's number in
 //      `seen_in_frame`, so nothing needs clearing; fractional F: a pixel count in `owned`);
-//   2. depth test: a vertex counts as visible when it is not behind the depth buffer by more
-//      than the tolerance at one of the four pixel centres around it;
+//   2. depth test (mark_seen_vertices): a vertex counts as visible when it is no more than
+//      the tolerance behind the surface interpolated from the four depths around it, or sits on
+//      a silhouette or a corner of a face shown there; vertices whose faces all turn away are
+//      skipped;
 //   3. one pass over the faces adds q(R·N) to `total` for every face turned toward the
 //      camera and to `seen` when the face owns a pixel or one of its vertices is visible;
 //   4. (fractional F only) the counts are cleared through the same pixels.
