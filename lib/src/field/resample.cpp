@@ -1,0 +1,266 @@
+// Resampling the visibility field for a viewpoint (see resample.h).
+#include "visimp/field/resample.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "visimp/core/errors.h"
+
+namespace visimp {
+
+std::string interpolation_name(Interpolation interpolation) {
+  switch (interpolation) {
+    case Interpolation::Uv: return "uv";
+    case Interpolation::St: return "st";
+    case Interpolation::UvSt: return "uvst";
+    default: return "none";
+  }
+}
+
+Interpolation parse_interpolation(const std::string& name) {
+  if (name == "none") return Interpolation::None;
+  if (name == "uv") return Interpolation::Uv;
+  if (name == "st") return Interpolation::St;
+  if (name == "uvst" || name == "uv+st") return Interpolation::UvSt;
+  throw UsageError("interpolation must be none, uv, st or uvst, got '" + name + "'");
+}
+
+void check_options(const ResampleOptions& options) {
+  const int root = static_cast<int>(std::lround(std::sqrt(std::max(options.subsample, 0))));
+  if (options.subsample < 1 || options.subsample > 1024 || root * root != options.subsample) {
+    throw OptionError(&options.subsample, "ResampleOptions::subsample",
+                      "must be a square in [1, 1024] (1 of k pixels: 1, 4, 9, 16, ...)");
+  }
+  if (options.mip < -1) throw OptionError(&options.mip, "ResampleOptions::mip", "must be -1 (auto) or a level >= 0");
+}
+
+namespace {
+
+double coord(const Vec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
+
+// One coarser level: each coarse sample keeps the ids most weighted among its (up to) 16
+// children, a child's rank r counting ids − r.
+std::vector<std::uint32_t> coarsen(const std::vector<std::uint32_t>& fine, int uv, int st, int ids, int cuv, int cst) {
+  std::vector<std::uint32_t> out(static_cast<std::size_t>(cuv) * cuv * cst * cst * static_cast<std::size_t>(ids), 0);
+  std::vector<std::pair<std::uint32_t, int>> weights;
+  auto fine_index = [&](int iu, int iv, int is, int it) {
+    return ((((static_cast<std::size_t>(iu) * uv + iv) * st + is) * st + it) * static_cast<std::size_t>(ids));
+  };
+  std::size_t k = 0;
+  for (int iu = 0; iu < cuv; ++iu)
+    for (int iv = 0; iv < cuv; ++iv)
+      for (int is = 0; is < cst; ++is)
+        for (int it = 0; it < cst; ++it, ++k) {
+          weights.clear();
+          for (int c = 0; c < 16; ++c) {
+            const int u = std::min(2 * iu + (c & 1), uv - 1), v = std::min(2 * iv + ((c >> 1) & 1), uv - 1);
+            const int s = std::min(2 * is + ((c >> 2) & 1), st - 1), t = std::min(2 * it + ((c >> 3) & 1), st - 1);
+            const std::uint32_t* entry = &fine[fine_index(u, v, s, t)];
+            for (int r = 0; r < ids && entry[r] != 0; ++r) {
+              auto it2 = std::find_if(weights.begin(), weights.end(), [&](const auto& w) { return w.first == entry[r]; });
+              if (it2 == weights.end()) weights.push_back({entry[r], ids - r});
+              else it2->second += ids - r;
+            }
+          }
+          std::sort(weights.begin(), weights.end(), [](const auto& a, const auto& b) {
+            return a.second != b.second ? a.second > b.second : a.first < b.first;
+          });
+          for (int r = 0; r < ids && static_cast<std::size_t>(r) < weights.size(); ++r)
+            out[k * static_cast<std::size_t>(ids) + static_cast<std::size_t>(r)] = weights[static_cast<std::size_t>(r)].first;
+        }
+  return out;
+}
+
+}  // namespace
+
+FieldResampler::FieldResampler(const VisibilityField& field) : field_(field) {
+  for (auto& row : slab_of_) row[0] = row[1] = -1;
+  for (std::size_t i = 0; i < field.slabs.size(); ++i) {
+    slab_of_[field.slabs[i].axis][field.slabs[i].side > 0 ? 1 : 0] = static_cast<int>(i);
+  }
+  int uv = field.options.uv, st = field.options.st;
+  const int ids = field.options.ids;
+  while (uv >= 2 && st >= 2) {
+    Level level;
+    level.uv = (uv + 1) / 2;
+    level.st = (st + 1) / 2;
+    level.samples.resize(field.slabs.size());
+    for (std::size_t s = 0; s < field.slabs.size(); ++s) {
+      for (std::size_t l = 0; l < field.slabs[s].starts.size(); ++l) {
+        const auto& fine = levels_.empty() ? field.samples[s][l] : levels_.back().samples[s][l];
+        level.samples[s].push_back(coarsen(fine, uv, st, ids, level.uv, level.st));
+      }
+    }
+    uv = level.uv;
+    st = level.st;
+    levels_.push_back(std::move(level));
+  }
+}
+
+const FieldResampler::Samples& FieldResampler::samples(int level, std::size_t slab, std::size_t layer) const {
+  return level == 0 ? field_.samples[slab][layer] : levels_[static_cast<std::size_t>(level - 1)].samples[slab][layer];
+}
+
+ResampleResult FieldResampler::resample(const PerspectiveView& view, const ResampleOptions& options) const {
+  ResampleResult out;
+  resample(view, options, out);
+  return out;
+}
+
+void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions& options, ResampleResult& out) const {
+  check_options(options);
+  const std::size_t cells = field_.cells.num_cells();
+  out.marked.assign(cells, 0);
+  out.cells_marked = out.rays = out.rays_in_field = out.gap_cells = 0;
+  out.mip_level = 0;
+  const int stride = static_cast<int>(std::lround(std::sqrt(options.subsample)));
+  const int size = view.resolution;
+  const int ids = field_.options.ids;
+  const bool interp_uv = options.interpolation == Interpolation::Uv || options.interpolation == Interpolation::UvSt;
+  const bool interp_st = options.interpolation == Interpolation::St || options.interpolation == Interpolation::UvSt;
+
+  // Per slab: the layer in front of the eye (-1: none, the box ends before one), whether a
+  // gap of geometry lies between eye and that plane, and the mip level.
+  struct SlabQuery {
+    int layer = -1, level = 0, uv = 0, st = 0;
+    bool gap = false, used = false;
+    double gap_lo = 0, gap_hi = 0;
+  };
+  std::vector<SlabQuery> query(field_.slabs.size());
+  for (std::size_t i = 0; i < field_.slabs.size(); ++i) {
+    const Slab& slab = field_.slabs[i];
+    SlabQuery& q = query[i];
+    const double x = coord(view.eye, slab.axis);
+    for (std::size_t k = 0; k < slab.starts.size(); ++k) {
+      if (slab.side * (x - slab.starts[k]) >= 0) {
+        q.layer = static_cast<int>(k);
+        break;
+      }
+    }
+    const double box_far = slab.side > 0 ? coord(field_.box.min, slab.axis) : coord(field_.box.max, slab.axis);
+    const double plane_ahead = q.layer >= 0 ? slab.starts[static_cast<std::size_t>(q.layer)] : box_far;
+    q.gap = q.layer != 0 && slab.side * (x - box_far) > 0;
+    q.gap_lo = std::min(x, plane_ahead);
+    q.gap_hi = std::max(x, plane_ahead);
+    int level = options.mip;
+    if (level < 0) {
+      // Query rays' spacing on the st plane against one st sample.
+      const double footprint = std::abs(x - slab.plane) * 2 * view.tan_half_fov * stride / size;
+      const double sample = (slab.s_range[1] - slab.s_range[0]) / field_.options.st;
+      level = footprint > sample ? static_cast<int>(std::floor(std::log2(footprint / sample))) : 0;
+    }
+    q.level = std::min(level, mip_levels() - 1);
+    q.uv = q.level == 0 ? field_.options.uv : levels_[static_cast<std::size_t>(q.level - 1)].uv;
+    q.st = q.level == 0 ? field_.options.st : levels_[static_cast<std::size_t>(q.level - 1)].st;
+  }
+
+  auto mark_sample = [&](const std::uint32_t* entry) {
+    for (int r = 0; r < ids && entry[r] != 0; ++r) out.marked[entry[r] - 1] = 1;
+  };
+  for (int j = 0; j * stride < size; ++j) {
+    for (int i = 0; i * stride < size; ++i) {
+      ++out.rays;
+      const Vec3 d = view.pixel_ray(i * stride + 0.5 * stride - 0.5, j * stride + 0.5 * stride - 0.5);
+      const double ad[3] = {std::abs(d.x), std::abs(d.y), std::abs(d.z)};
+      const int axis = ad[0] >= ad[1] && ad[0] >= ad[2] ? 0 : ad[1] >= ad[2] ? 1 : 2;
+      const double da = coord(d, axis);
+      const int slab_index = slab_of_[axis][da < 0 ? 1 : 0];  // travelling −a: the viewer is on the + side
+      if (slab_index < 0) continue;
+      SlabQuery& q = query[static_cast<std::size_t>(slab_index)];
+      q.used = true;
+      if (q.layer < 0) continue;
+      const Slab& slab = field_.slabs[static_cast<std::size_t>(slab_index)];
+      const double u = coord(d, slab.s_axis()) / ad[axis], v = coord(d, slab.t_axis()) / ad[axis];
+      const double lambda = (slab.plane - coord(view.eye, axis)) / da;
+      const double s = coord(view.eye, slab.s_axis()) + lambda * coord(d, slab.s_axis());
+      const double t = coord(view.eye, slab.t_axis()) + lambda * coord(d, slab.t_axis());
+      const double fs = (s - slab.s_range[0]) / (slab.s_range[1] - slab.s_range[0]);
+      const double ft = (t - slab.t_range[0]) / (slab.t_range[1] - slab.t_range[0]);
+      if (!(fs >= 0 && fs <= 1 && ft >= 0 && ft <= 1)) continue;  // the line misses the box
+      ++out.rays_in_field;
+      const int uvn = q.uv, stn = q.st;
+      const double cu = (u + 1) * 0.5 * uvn - 0.5, cv = (v + 1) * 0.5 * uvn - 0.5;
+      const double cs = fs * stn - 0.5, ct = ft * stn - 0.5;
+      auto axis_samples = [](double c, int n, bool both, int (&out2)[2]) {
+        if (!both) {
+          out2[0] = out2[1] = std::clamp(static_cast<int>(std::lround(c)), 0, n - 1);
+        } else {
+          const int lo = static_cast<int>(std::floor(c));
+          out2[0] = std::clamp(lo, 0, n - 1);
+          out2[1] = std::clamp(lo + 1, 0, n - 1);
+        }
+      };
+      int su[2], sv[2], ss[2], sts[2];
+      axis_samples(cu, uvn, interp_uv, su);
+      axis_samples(cv, uvn, interp_uv, sv);
+      axis_samples(cs, stn, interp_st, ss);
+      axis_samples(ct, stn, interp_st, sts);
+      const Samples& data = samples(q.level, static_cast<std::size_t>(slab_index), static_cast<std::size_t>(q.layer));
+      const int nu = interp_uv ? 2 : 1, ns = interp_st ? 2 : 1;
+      for (int a = 0; a < nu; ++a)
+        for (int b = 0; b < nu; ++b)
+          for (int c = 0; c < ns; ++c)
+            for (int e = 0; e < ns; ++e) {
+              const std::size_t index =
+                  (((static_cast<std::size_t>(su[a]) * uvn + sv[b]) * stn + ss[c]) * stn + sts[e]) * ids;
+              mark_sample(&data[index]);
+            }
+    }
+  }
+
+  // Gaps in front of an eye inside the box: cells there in the view frustum (conservative).
+  const Vec3 planes[5] = {view.forward * view.tan_half_fov - view.right, view.forward * view.tan_half_fov + view.right,
+                          view.forward * view.tan_half_fov - view.up, view.forward * view.tan_half_fov + view.up,
+                          view.forward};
+  for (std::size_t i = 0; i < query.size(); ++i) {
+    const SlabQuery& q = query[i];
+    if (!q.used || !q.gap) continue;
+    const int axis = field_.slabs[i].axis;
+    for (std::size_t c = 0; c < cells; ++c) {
+      if (out.marked[c]) continue;
+      const BoundingBox& b = field_.cells.bounds[c];
+      if (coord(b.max, axis) < q.gap_lo || coord(b.min, axis) > q.gap_hi) continue;
+      bool in_frustum = true;
+      for (const Vec3& n : planes) {
+        // The box corner farthest along n, relative to the eye.
+        const Vec3 corner{n.x >= 0 ? b.max.x : b.min.x, n.y >= 0 ? b.max.y : b.min.y, n.z >= 0 ? b.max.z : b.min.z};
+        if (dot(n, corner - view.eye) < 0) {
+          in_frustum = false;
+          break;
+        }
+      }
+      if (in_frustum) {
+        out.marked[c] = 1;
+        ++out.gap_cells;
+      }
+    }
+  }
+  for (const SlabQuery& q : query) out.mip_level = std::max(out.mip_level, q.used ? q.level : 0);
+  for (std::uint8_t m : out.marked) out.cells_marked += m;
+}
+
+std::vector<std::uint32_t> FieldResampler::faces_of(const std::vector<std::uint8_t>& marked) const {
+  std::vector<std::uint32_t> out;
+  const auto& face_cell = field_.cells.face_cell;
+  for (std::size_t f = 0; f < face_cell.size(); ++f) {
+    if (marked[face_cell[f]]) out.push_back(static_cast<std::uint32_t>(f));
+  }
+  return out;
+}
+
+void FieldResampler::append_cell_faces(const std::vector<std::uint8_t>& marked, std::vector<std::uint32_t>& out) const {
+  const auto& off = field_.cells.cell_offsets;
+  for (std::size_t c = 0; c < marked.size(); ++c) {
+    if (marked[c]) out.insert(out.end(), field_.cells.cell_faces.begin() + off[c], field_.cells.cell_faces.begin() + off[c + 1]);
+  }
+}
+
+std::size_t FieldResampler::face_count(const std::vector<std::uint8_t>& marked) const {
+  std::size_t n = 0;
+  const auto& off = field_.cells.cell_offsets;
+  for (std::size_t c = 0; c < marked.size(); ++c) n += marked[c] ? off[c + 1] - off[c] : 0;
+  return n;
+}
+
+}  // namespace visimp
