@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -186,16 +187,30 @@ std::string input_format_name(const StreamOptions& o) {
 }
 bool input_format_detected(const StreamOptions& o) { return o.input_choice && o.input_choice->detected; }
 
-void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o) {
+void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o,
+                  const std::vector<std::uint32_t>* source_face) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (path != "-" && input != "-" && !o.in_place && fs::exists(path, ec) && fs::equivalent(path, input, ec))
     throw UsageError(path + ": output would overwrite the input (use --in-place to allow it)");
   WriteOptions w;
   w.binary = !o.ascii;
+  w.source_face = source_face;
   std::optional<Format> format = chosen_format(o.output_format, o.format);
   if (!format && path == "-" && o.input_choice) format = o.input_choice->format;  // stdout: as the input came
   write_mesh(mesh, path, format, w);
+}
+
+Vec3 parse_point(const std::string& text, const std::string& what) {
+  std::stringstream in(text);
+  std::string part;
+  std::vector<double> v;
+  while (std::getline(in, part, ',')) v.push_back(parse_double(part, what));
+  if (v.size() != 3) throw UsageError(what + " expects X,Y,Z, got '" + text + "'");
+  const Vec3 p{v[0], v[1], v[2]};
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    throw UsageError(what + " must be finite, got '" + text + "'");
+  return p;
 }
 
 ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), enabled_(::isatty(STDERR_FILENO) == 1) {}

@@ -87,10 +87,14 @@ void require_faces(const Mesh& mesh, const std::string& path, const std::string&
 std::string input_format_name(const StreamOptions& o);
 bool input_format_detected(const StreamOptions& o);
 
+/// "X,Y,Z" → a finite point; throws UsageError naming `what`.
+Vec3 parse_point(const std::string& text, const std::string& what);
 /// "50000,20000,5000" → counts; throws UsageError naming `what`.
 std::vector<std::size_t> parse_count_list(const std::string& text, const std::string& what);
 /// Refuses to overwrite `input` unless --in-place; writes atomically.
-void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o);
+/// `source_face` (PLY): also write which input face each face came from.
+void write_output(const Mesh& mesh, const std::string& path, const std::string& input, const StreamOptions& o,
+                  const std::vector<std::uint32_t>* source_face = nullptr);
 
 class ProgressBar : public SimplifyObserver, public RenderObserver {
  public:

@@ -34,15 +34,6 @@ constexpr const char* kPatchesUsage =
     "\n"
     "'visimp patches COMMAND --help' describes each.\n";
 
-Vec3 parse_point(const std::string& text, const std::string& what) {
-  std::stringstream in(text);
-  std::string part;
-  std::vector<double> v;
-  while (std::getline(in, part, ',')) v.push_back(parse_double(part, what));
-  if (v.size() != 3) throw UsageError(what + " expects X,Y,Z, got '" + text + "'");
-  return {v[0], v[1], v[2]};
-}
-
 int level_of_camera_count(std::size_t count, const std::string& what) {
   for (int level = 0; level <= SphereTessellation::kMaxLevel; ++level) {
     if (octahedron_camera_count(level) == count) return level;

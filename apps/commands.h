@@ -20,5 +20,6 @@ int run_metro(const Args& args);
 int run_imgerr(const Args& args);
 int run_compare(const Args& args);
 int run_patches(const Args& args);
+int run_field(const Args& args);
 
 }  // namespace visimp::app

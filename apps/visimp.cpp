@@ -34,6 +34,7 @@ constexpr const char* kUsage =
     "  metro A B                  sampled surface distances both ways: Hausdorff, mean, RMS, histogram\n"
     "  imgerr A B                 image RMS error over 20 flat-shaded views (Zhang & Turk eq. 5.11)\n"
     "  patches build|query|study  patch bitfields and view reconstruction from the same sampling\n"
+    "  field build|query|study    the visibility field: cell ids on two-plane slabs, resampled per view\n"
     "\n"
     "'visimp COMMAND --help' describes each command; 'visimp --version' prints the version.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
@@ -69,6 +70,7 @@ int main(int argc, char** argv) {
     if (command == "imgerr") return app::run_imgerr(args);
     if (command == "compare") return app::run_compare(args);
     if (command == "patches") return app::run_patches(args);
+    if (command == "field") return app::run_field(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const OptionError& e) {
     std::cerr << "visimp " << command << ": error: " << app::describe_option_error(e) << "\n";

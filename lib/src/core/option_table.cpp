@@ -24,6 +24,14 @@ std::size_t parse_count(std::string_view text, const std::string& what) {
   return v;
 }
 
+int parse_int(std::string_view text, const std::string& what) {
+  int v = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size())
+    throw UsageError(what + ": expected an integer, got '" + std::string(text) + "'");
+  return v;
+}
+
 namespace {
 std::string to_text(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -40,6 +48,17 @@ OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& fi
           std::move(help),
           std::to_string(field),
           [&field, what](std::string_view t) { field = parse_count(t, what); },
+          {},
+          &field};
+}
+
+OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help) {
+  std::string what = flag;
+  return {std::move(flag),
+          std::move(value_name),
+          std::move(help),
+          std::to_string(field),
+          [&field, what](std::string_view t) { field = parse_int(t, what); },
           {},
           &field};
 }

@@ -12,9 +12,12 @@ namespace visimp {
 
 std::string cell_mode_name(CellMode mode) {
   switch (mode) {
-    case CellMode::Polygon: return "polygon";
-    case CellMode::SceneGrid: return "scene";
-    default: return "object";
+    case CellMode::Polygon:
+      return "polygon";
+    case CellMode::SceneGrid:
+      return "scene";
+    default:
+      return "object";
   }
 }
 

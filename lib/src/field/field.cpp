@@ -31,6 +31,16 @@ void check_options(const FieldOptions& o, std::size_t faces) {
   }
 }
 
+std::vector<OptionSpec> describe_options(FieldOptions& o) {
+  return {option_spec("--grid", "N", o.cells.grid, "cells along the longest side of each object's grid, 1..255"),
+          option_spec("--uv", "N", o.uv, "uv samples per side (directions), 2..64"),
+          option_spec("--st", "N", o.st, "st samples per side (positions), 2..64"),
+          option_spec("--ids", "N", o.ids, "cell ids kept per sample, 1..8"),
+          option_spec("--slabs", "6|1", o.slabs, "one slab per side of the box, or the paper's single +z slab"),
+          option_spec("--layers", "N", o.layers, "start planes per slab for viewpoints inside the box, 1..16"),
+          option_spec("--threads", "N", o.threads, "worker threads (0 = one per hardware thread)")};
+}
+
 Vec3 Slab::direction(double u, double v) const {
   double d[3];
   d[axis] = -side;
@@ -79,10 +89,10 @@ void rank_cells(std::vector<std::uint32_t>& hits, int keep, std::uint32_t* out) 
     if (hits[i] != kNoCell && n < runs.size()) runs[n++] = {static_cast<int>(j - i), hits[i]};
     i = j;
   }
-  std::sort(runs.begin(), runs.begin() + static_cast<std::ptrdiff_t>(n), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
-  });
-  for (int r = 0; r < keep; ++r) out[r] = static_cast<std::size_t>(r) < n ? runs[static_cast<std::size_t>(r)].second + 1 : 0;
+  std::sort(runs.begin(), runs.begin() + static_cast<std::ptrdiff_t>(n),
+            [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
+  for (int r = 0; r < keep; ++r)
+    out[r] = static_cast<std::size_t>(r) < n ? runs[static_cast<std::size_t>(r)].second + 1 : 0;
 }
 
 std::size_t VisibilityField::sample_bytes() const {
@@ -132,12 +142,14 @@ VisibilityField build_field(const Mesh& mesh, const FieldOptions& options, Rende
   const int uv = options.uv, st = options.st, ids = options.ids;
   const std::size_t per_layer = field.samples_per_layer();
   field.samples.resize(field.slabs.size());
-  for (auto& slab : field.samples) slab.assign(static_cast<std::size_t>(options.layers), std::vector<std::uint32_t>(per_layer * static_cast<std::size_t>(ids)));
+  for (auto& slab : field.samples)
+    slab.assign(static_cast<std::size_t>(options.layers),
+                std::vector<std::uint32_t>(per_layer * static_cast<std::size_t>(ids)));
 
   // One job per (slab, layer, iu, iv): st·st samples of 81 rays each.
   const std::size_t jobs =
       field.slabs.size() * static_cast<std::size_t>(options.layers) * static_cast<std::size_t>(uv) * uv;
-  const unsigned workers = worker_count(options.threads, jobs);
+  const unsigned workers = worker_count(static_cast<unsigned>(options.threads), jobs);
   std::vector<std::vector<float>> origins(workers), directions(workers);
   std::vector<std::vector<std::uint32_t>> hits(workers), cells(workers);
   const std::size_t rays_per_job = static_cast<std::size_t>(st) * st * 81;
@@ -151,7 +163,8 @@ VisibilityField build_field(const Mesh& mesh, const FieldOptions& options, Rende
         const Slab& slab = field.slabs[slab_index];
         const double start_plane = slab.starts[layer] - coord(center, slab.axis);
         const double plane = slab.plane - coord(center, slab.axis);
-        const double s0 = slab.s_range[0] - coord(center, slab.s_axis()), t0 = slab.t_range[0] - coord(center, slab.t_axis());
+        const double s0 = slab.s_range[0] - coord(center, slab.s_axis()),
+                     t0 = slab.t_range[0] - coord(center, slab.t_axis());
         const double ds = (slab.s_range[1] - slab.s_range[0]) / st, dt = (slab.t_range[1] - slab.t_range[0]) / st;
         auto& org = origins[w];
         auto& dir = directions[w];
@@ -206,25 +219,27 @@ VisibilityField build_field(const Mesh& mesh, const FieldOptions& options, Rende
   constexpr int n = VisibilityField::kOccupancy;
   field.interior.assign(n * n * n / 8, 0);
   const Vec3 extent = field.box.max - field.box.min;
-  parallel_for(0, static_cast<std::size_t>(n) * n, worker_count(options.threads, n * n), [&](unsigned, std::size_t row) {
-    const int cz = static_cast<int>(row / n), cy = static_cast<int>(row % n);
-    for (int cx = 0; cx < n; ++cx) {
-      const Vec3 p = field.box.min - center +
-                     Vec3{extent.x * (cx + 0.5) / n, extent.y * (cy + 0.5) / n, extent.z * (cz + 0.5) / n};
-      const std::array<float, 3> o{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
-      int odd = 0;
-      for (int a = 0; a < 6; ++a) {
-        std::array<float, 3> d{0, 0, 0};
-        d[static_cast<std::size_t>(a / 2)] = a % 2 ? -1.0f : 1.0f;
-        odd += static_cast<int>(caster.crossings(o, d) % 2);
-      }
-      if (odd >= 4) {
-        const std::size_t bit = (static_cast<std::size_t>(cz) * n + cy) * n + cx;
-        // Rows are disjoint per job but share bytes only within a row (n is a multiple of 8).
-        field.interior[bit / 8] = static_cast<std::uint8_t>(field.interior[bit / 8] | (1u << (bit % 8)));
-      }
-    }
-  });
+  parallel_for(
+      0, static_cast<std::size_t>(n) * n, worker_count(static_cast<unsigned>(options.threads), n * n),
+      [&](unsigned, std::size_t row) {
+        const int cz = static_cast<int>(row / n), cy = static_cast<int>(row % n);
+        for (int cx = 0; cx < n; ++cx) {
+          const Vec3 p = field.box.min - center +
+                         Vec3{extent.x * (cx + 0.5) / n, extent.y * (cy + 0.5) / n, extent.z * (cz + 0.5) / n};
+          const std::array<float, 3> o{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+          int odd = 0;
+          for (int a = 0; a < 6; ++a) {
+            std::array<float, 3> d{0, 0, 0};
+            d[static_cast<std::size_t>(a / 2)] = a % 2 ? -1.0f : 1.0f;
+            odd += static_cast<int>(caster.crossings(o, d) % 2);
+          }
+          if (odd >= 4) {
+            const std::size_t bit = (static_cast<std::size_t>(cz) * n + cy) * n + cx;
+            // Rows are disjoint per job but share bytes only within a row (n is a multiple of 8).
+            field.interior[bit / 8] = static_cast<std::uint8_t>(field.interior[bit / 8] | (1u << (bit % 8)));
+          }
+        }
+      });
   if (observer) observer->on_render_progress(1.0);
   field.seconds_build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return field;

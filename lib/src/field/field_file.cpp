@@ -94,7 +94,8 @@ ByteWriter encode(const VisibilityField& field, FieldFileSizes& sizes) {
   const std::size_t before = w.bytes.size();
   for (const auto& slab : field.samples) {
     for (const auto& layer : slab) {
-      for (int rank = 0; rank < o.ids; ++rank) encode_runs(layer, static_cast<std::size_t>(rank), static_cast<std::size_t>(o.ids), w);
+      for (int rank = 0; rank < o.ids; ++rank)
+        encode_runs(layer, static_cast<std::size_t>(rank), static_cast<std::size_t>(o.ids), w);
     }
   }
   sizes.coded_sample_bytes = w.bytes.size() - before;
@@ -196,7 +197,8 @@ VisibilityField parse_field_file(const std::string& bytes, const std::string& pa
     for (std::size_t c = 0; c < cells; ++c) off[c + 1] += off[c];
     f.cells.cell_faces.resize(f.faces);
     std::vector<std::uint32_t> next(off.begin(), off.end() - 1);
-    for (std::size_t i = 0; i < f.faces; ++i) f.cells.cell_faces[next[f.cells.face_cell[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < f.faces; ++i)
+      f.cells.cell_faces[next[f.cells.face_cell[i]]++] = static_cast<std::uint32_t>(i);
   }
   const std::vector<Slab> expected = place_slabs(f.box, o.slabs, o.layers);
   f.slabs.resize(expected.size());
@@ -224,7 +226,8 @@ VisibilityField parse_field_file(const std::string& bytes, const std::string& pa
       }
     }
   }
-  const std::size_t interior_bytes = VisibilityField::kOccupancy * VisibilityField::kOccupancy * VisibilityField::kOccupancy / 8;
+  const std::size_t interior_bytes =
+      VisibilityField::kOccupancy * VisibilityField::kOccupancy * VisibilityField::kOccupancy / 8;
   if (r.remaining() != interior_bytes) {
     throw IoError(path, "ends with " + std::to_string(r.remaining()) + " bytes where the interior grid takes " +
                             std::to_string(interior_bytes));

@@ -11,10 +11,14 @@ namespace visimp {
 
 std::string interpolation_name(Interpolation interpolation) {
   switch (interpolation) {
-    case Interpolation::Uv: return "uv";
-    case Interpolation::St: return "st";
-    case Interpolation::UvSt: return "uvst";
-    default: return "none";
+    case Interpolation::Uv:
+      return "uv";
+    case Interpolation::St:
+      return "st";
+    case Interpolation::UvSt:
+      return "uvst";
+    default:
+      return "none";
   }
 }
 
@@ -33,6 +37,11 @@ void check_options(const ResampleOptions& options) {
                       "must be a square in [1, 1024] (1 of k pixels: 1, 4, 9, 16, ...)");
   }
   if (options.mip < -1) throw OptionError(&options.mip, "ResampleOptions::mip", "must be -1 (auto) or a level >= 0");
+}
+
+std::vector<OptionSpec> describe_options(ResampleOptions& o) {
+  return {option_spec("--subsample", "K", o.subsample, "resample 1 of K pixels (a square: 1, 4, 9, 16, ...)"),
+          option_spec("--mip", "L", o.mip, "mip-map level to read (0 = the field itself, -1 = by distance)")};
 }
 
 namespace {
@@ -58,16 +67,20 @@ std::vector<std::uint32_t> coarsen(const std::vector<std::uint32_t>& fine, int u
             const int s = std::min(2 * is + ((c >> 2) & 1), st - 1), t = std::min(2 * it + ((c >> 3) & 1), st - 1);
             const std::uint32_t* entry = &fine[fine_index(u, v, s, t)];
             for (int r = 0; r < ids && entry[r] != 0; ++r) {
-              auto it2 = std::find_if(weights.begin(), weights.end(), [&](const auto& w) { return w.first == entry[r]; });
-              if (it2 == weights.end()) weights.push_back({entry[r], ids - r});
-              else it2->second += ids - r;
+              auto it2 =
+                  std::find_if(weights.begin(), weights.end(), [&](const auto& w) { return w.first == entry[r]; });
+              if (it2 == weights.end())
+                weights.push_back({entry[r], ids - r});
+              else
+                it2->second += ids - r;
             }
           }
           std::sort(weights.begin(), weights.end(), [](const auto& a, const auto& b) {
             return a.second != b.second ? a.second > b.second : a.first < b.first;
           });
           for (int r = 0; r < ids && static_cast<std::size_t>(r) < weights.size(); ++r)
-            out[k * static_cast<std::size_t>(ids) + static_cast<std::size_t>(r)] = weights[static_cast<std::size_t>(r)].first;
+            out[k * static_cast<std::size_t>(ids) + static_cast<std::size_t>(r)] =
+                weights[static_cast<std::size_t>(r)].first;
         }
   return out;
 }
@@ -182,7 +195,7 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
       const int uvn = q.uv, stn = q.st;
       const double cu = (u + 1) * 0.5 * uvn - 0.5, cv = (v + 1) * 0.5 * uvn - 0.5;
       const double cs = fs * stn - 0.5, ct = ft * stn - 0.5;
-      auto axis_samples = [](double c, int n, bool both, int (&out2)[2]) {
+      auto axis_samples = [](double c, int n, bool both, int(&out2)[2]) {
         if (!both) {
           out2[0] = out2[1] = std::clamp(static_cast<int>(std::lround(c)), 0, n - 1);
         } else {
@@ -252,7 +265,8 @@ std::vector<std::uint32_t> FieldResampler::faces_of(const std::vector<std::uint8
 void FieldResampler::append_cell_faces(const std::vector<std::uint8_t>& marked, std::vector<std::uint32_t>& out) const {
   const auto& off = field_.cells.cell_offsets;
   for (std::size_t c = 0; c < marked.size(); ++c) {
-    if (marked[c]) out.insert(out.end(), field_.cells.cell_faces.begin() + off[c], field_.cells.cell_faces.begin() + off[c + 1]);
+    if (marked[c])
+      out.insert(out.end(), field_.cells.cell_faces.begin() + off[c], field_.cells.cell_faces.begin() + off[c + 1]);
   }
 }
 

@@ -424,6 +424,9 @@ void write_ply(const Mesh& mesh, std::ostream& out, const WriteOptions& options)
   if (mesh.has_vertex_quality()) out << "property float quality\n";
   out << "element face " << mesh.num_faces() << "\nproperty list uchar int vertex_indices\n";
   if (mesh.has_face_quality()) out << "property float quality\n";
+  const std::vector<std::uint32_t>* source = options.source_face;
+  if (source && source->size() != mesh.num_faces()) source = nullptr;
+  if (source) out << "property uint source_face\n";
   out << "end_header\n";
 
   if (!options.binary) {
@@ -444,6 +447,7 @@ void write_ply(const Mesh& mesh, std::ostream& out, const WriteOptions& options)
       const Face& t = mesh.faces[f];
       line << "3 " << t[0] << ' ' << t[1] << ' ' << t[2];
       if (mesh.has_face_quality()) line << ' ' << mesh.face_quality[f];
+      if (source) line << ' ' << (*source)[f];
       line << '\n';
       out << line.str();
       line.str("");
@@ -467,6 +471,7 @@ void write_ply(const Mesh& mesh, std::ostream& out, const WriteOptions& options)
     buf.put<std::uint8_t>(3);
     for (VertexIndex v : mesh.faces[f]) buf.put<std::int32_t>(static_cast<std::int32_t>(v));
     if (mesh.has_face_quality()) buf.put<float>(mesh.face_quality[f]);
+    if (source) buf.put<std::uint32_t>((*source)[f]);
     if (buf.size() > kChunk) buf.flush_to(out);
   }
   buf.flush_to(out);

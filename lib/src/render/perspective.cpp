@@ -26,8 +26,8 @@ Vec3 normalized(const Vec3& v) {
 
 }  // namespace
 
-PerspectiveView PerspectiveView::looking_at(const Vec3& eye, const Vec3& target, double fov_degrees,
-                                            int resolution, double near) {
+PerspectiveView PerspectiveView::looking_at(const Vec3& eye, const Vec3& target, double fov_degrees, int resolution,
+                                            double near) {
   PerspectiveView view;
   view.eye = eye;
   view.forward = normalized(target - eye);
@@ -89,11 +89,16 @@ void PerspectiveRasterizer::draw_face(std::uint32_t f, const std::vector<Face>& 
   // Signed distances to the five clip planes (inside ≥ 0).
   auto plane = [&](const ViewVertex& v, int p) {
     switch (p) {
-      case 0: return v.z - near;
-      case 1: return kGuardBand * t * v.z - v.x;
-      case 2: return kGuardBand * t * v.z + v.x;
-      case 3: return kGuardBand * t * v.z - v.y;
-      default: return kGuardBand * t * v.z + v.y;
+      case 0:
+        return v.z - near;
+      case 1:
+        return kGuardBand * t * v.z - v.x;
+      case 2:
+        return kGuardBand * t * v.z + v.x;
+      case 3:
+        return kGuardBand * t * v.z - v.y;
+      default:
+        return kGuardBand * t * v.z + v.y;
     }
   };
   ViewVertex polygon[2][9];

@@ -30,8 +30,8 @@ RayCaster::RayCaster(const std::vector<std::array<float, 3>>& positions, const s
     v[3 * i + 2] = positions[i][2];
   }
   v[3 * positions.size()] = v[3 * positions.size() + 1] = v[3 * positions.size() + 2] = 0;
-  auto* index = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), faces.size()));
+  auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), faces.size()));
   for (std::size_t f = 0; f < faces.size(); ++f) {
     for (int k = 0; k < 3; ++k) index[3 * f + k] = faces[f][k];
   }
@@ -78,8 +78,7 @@ std::uint32_t RayCaster::first_hit(const std::array<float, 3>& origin, const std
   return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kNoHit : rh.hit.primID;
 }
 
-void RayCaster::first_hits(const float* origins, const float* directions, std::size_t count,
-                           std::uint32_t* out) const {
+void RayCaster::first_hits(const float* origins, const float* directions, std::size_t count, std::uint32_t* out) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers pass neighbouring rays together

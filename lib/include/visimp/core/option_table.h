@@ -26,6 +26,7 @@ struct OptionSpec {
 };
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help);
+OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help);
 /// A switch: present means true.
@@ -36,5 +37,6 @@ OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help);
 /// Parsers shared by the specs and the apps; they throw UsageError naming `what`.
 double parse_double(std::string_view text, const std::string& what);
 std::size_t parse_count(std::string_view text, const std::string& what);
+int parse_int(std::string_view text, const std::string& what);
 
 }  // namespace visimp

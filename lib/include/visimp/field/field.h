@@ -31,29 +31,32 @@
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/mesh.h"
+#include "visimp/core/option_table.h"
 #include "visimp/field/cells.h"
 
 namespace visimp {
 
 struct FieldOptions {
   CellOptions cells;
-  int uv = 16;      ///< uv samples per side, 2..64
-  int st = 16;      ///< st samples per side, 2..64
-  int ids = 1;      ///< cell ids kept per sample, 1..8
-  int slabs = 6;    ///< 6 (one per side of the box) or 1 (the +z slab, the paper's set-up)
-  int layers = 1;   ///< start planes per slab (1: the box's side only), 1..16
-  unsigned threads = 0;
+  int uv = 16;              ///< uv samples per side, 2..64
+  int st = 16;              ///< st samples per side, 2..64
+  int ids = 1;              ///< cell ids kept per sample, 1..8
+  int slabs = 6;            ///< 6 (one per side of the box) or 1 (the +z slab, the paper's set-up)
+  int layers = 1;           ///< start planes per slab (1: the box's side only), 1..16
+  std::size_t threads = 0;  ///< 0 = one per hardware thread
 };
 
 inline constexpr int kMinSamples = 2, kMaxSamples = 64, kMaxIds = 8, kMaxLayers = 16;
 
 /// Throws OptionError naming the field out of range.
 void check_options(const FieldOptions& options, std::size_t faces);
+/// --grid, --uv, --st, --ids, --slabs, --layers, --threads (the cell mode is the app's).
+std::vector<OptionSpec> describe_options(FieldOptions& options);
 
 /// One slab's geometry (see the file comment).
 struct Slab {
-  int axis = 2;   ///< a: 0 = x, 1 = y, 2 = z
-  int side = 1;   ///< σ: +1 viewer on the max side (lines travel −a), −1 the min side
+  int axis = 2;                     ///< a: 0 = x, 1 = y, 2 = z
+  int side = 1;                     ///< σ: +1 viewer on the max side (lines travel −a), −1 the min side
   double plane = 0;                 ///< coordinate along a of the st plane (the box's centre)
   std::array<double, 2> s_range{};  ///< st rectangle along the first other axis
   std::array<double, 2> t_range{};  ///< and the second

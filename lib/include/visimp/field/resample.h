@@ -33,17 +33,19 @@ Interpolation parse_interpolation(const std::string& name);
 struct ResampleOptions {
   int subsample = 4;  ///< 1 of `subsample` pixels (a square: a √k × √k stride), 1..1024
   Interpolation interpolation = Interpolation::None;
-  int mip = 0;        ///< mip-map level to read; -1 = by the eye's distance (auto)
+  int mip = 0;  ///< mip-map level to read; -1 = by the eye's distance (auto)
 };
 
 /// Throws OptionError for a subsample that is not a square in [1, 1024], or a level < −1.
 void check_options(const ResampleOptions& options);
+/// --subsample and --mip (the interpolation is the app's: it is a name).
+std::vector<OptionSpec> describe_options(ResampleOptions& options);
 
 struct ResampleResult {
   std::vector<std::uint8_t> marked;  ///< per cell
   std::size_t cells_marked = 0, rays = 0, rays_in_field = 0;
-  std::size_t gap_cells = 0;         ///< cells marked because they lie between eye and start plane
-  int mip_level = 0;                 ///< level read (the deepest, when several slabs differ)
+  std::size_t gap_cells = 0;  ///< cells marked because they lie between eye and start plane
+  int mip_level = 0;          ///< level read (the deepest, when several slabs differ)
 };
 
 class FieldResampler {

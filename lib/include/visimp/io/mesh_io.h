@@ -21,9 +21,11 @@
 #pragma once
 
 #include <iosfwd>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "visimp/core/mesh.h"
 
@@ -37,6 +39,9 @@ struct WriteOptions {
   /// PLY coordinates: float unless a coordinate would move by more than 1e-7 of the bounding-box
   /// diagonal in float (meshes far from the origin), then double. Force double with true.
   bool force_double = false;
+  /// PLY only: when set (one entry per face), also write the face property `uint source_face`
+  /// (which input face each face came from, for culled or filtered meshes).
+  const std::vector<std::uint32_t>* source_face = nullptr;
 };
 
 /// "ply", "obj", "off", "stl" (case-insensitive); nullopt otherwise.

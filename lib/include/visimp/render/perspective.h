@@ -19,10 +19,10 @@
 namespace visimp {
 
 struct PerspectiveView {
-  Vec3 eye;                   ///< in the frame of the positions drawn
-  Vec3 forward, right, up;    ///< orthonormal; right × up = −forward (y up, x right on screen)
-  double tan_half_fov = 1;    ///< tan of half the field of view
-  double near = 1e-3;         ///< distance of the near plane
+  Vec3 eye;                 ///< in the frame of the positions drawn
+  Vec3 forward, right, up;  ///< orthonormal; right × up = −forward (y up, x right on screen)
+  double tan_half_fov = 1;  ///< tan of half the field of view
+  double near = 1e-3;       ///< distance of the near plane
   int resolution = 480;
 
   /// Looks from `eye` at `target`; up is +z unless the view is (nearly) vertical, then +y.

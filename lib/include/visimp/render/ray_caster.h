@@ -27,8 +27,8 @@ class RayCaster {
 
   /// The face first hit by origin + t·direction for t in (t_near, t_far), or kNoHit.
   /// Safe to call from many threads at once.
-  std::uint32_t first_hit(const std::array<float, 3>& origin, const std::array<float, 3>& direction,
-                          float t_near = 0, float t_far = 1e30f) const;
+  std::uint32_t first_hit(const std::array<float, 3>& origin, const std::array<float, 3>& direction, float t_near = 0,
+                          float t_far = 1e30f) const;
   /// Casts `count` rays at once (origins and directions packed xyz); writes first hits.
   void first_hits(const float* origins, const float* directions, std::size_t count, std::uint32_t* out) const;
   /// How many surfaces the ray crosses for t > 0 (parity tells inside from outside).
