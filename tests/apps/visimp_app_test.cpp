@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -32,7 +33,8 @@ TEST_F(App, HelpEverywhereExitsZero) {
   for (const char* cmd :
        {"--help", "simplify --help", "info --help", "convert --help", "visibility --help", "visibility-merge --help",
         "visibility-study --help", "orient --help", "metro --help", "imgerr --help", "compare --help", "patches --help",
-        "patches build --help", "patches query --help", "patches study --help"}) {
+        "patches build --help", "patches query --help", "patches study --help", "field --help", "field build --help",
+        "field query --help", "field study --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -402,6 +404,99 @@ TEST_F(App, PatchesBuildQueryAndStudy) {
   std::size_t rows = 0;
   for (std::string line; std::getline(csv, line);) ++rows;
   EXPECT_EQ(rows, 1u + 3u * 3u + 3u);
+}
+
+// The PLY `source_face` column of a binary PLY written by visimp (float xyz, no quality).
+std::vector<std::uint32_t> source_faces(const std::string& path) {
+  const std::string bytes = test::slurp(path);
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  EXPECT_NE(bytes.find("property uint source_face"), std::string::npos);
+  const std::size_t vertices = std::stoul(bytes.substr(bytes.find("element vertex ") + 15));
+  const std::size_t faces = std::stoul(bytes.substr(bytes.find("element face ") + 13));
+  std::vector<std::uint32_t> out(faces);
+  std::size_t at = body + vertices * 12;
+  for (std::size_t f = 0; f < faces; ++f, at += 17) std::memcpy(&out[f], bytes.data() + at + 13, 4);
+  return out;
+}
+
+std::size_t json_count(const std::string& json, const std::string& key) {
+  const std::size_t at = json.find("\"" + key + "\": ");
+  return at == std::string::npos ? 0 : std::stoul(json.substr(at + key.size() + 4));
+}
+
+TEST_F(App, FieldBuildQueryAndCulledMesh) {
+  const std::string vfd = dir + "/bunny.vfd";
+  const AppRun built = run("field build " + bunny + " -o " + vfd + " --uv 8 --st 8 --ids 3 --json", dir);
+  ASSERT_EQ(built.code, 0) << built.err;
+  EXPECT_NE(built.out.find("\"compression_ratio\""), std::string::npos);
+  const std::string view = " --view 12,14,18 --subsample 4 --interp uvst";
+  const AppRun listed = run("field query " + vfd + view, dir);
+  ASSERT_EQ(listed.code, 0) << listed.err;
+  std::set<int> cells;
+  std::istringstream lines(listed.out);
+  for (int c; lines >> c;) cells.insert(c);
+  const AppRun summary = run("field query " + vfd + view + " --json", dir);
+  ASSERT_EQ(summary.code, 0) << summary.err;
+  EXPECT_EQ(json_count(summary.out, "cells_marked"), cells.size());
+  EXPECT_GT(cells.size(), 0u);
+  EXPECT_LT(json_count(summary.out, "cells_marked"), json_count(summary.out, "cells_total"));
+  EXPECT_EQ(json_count(summary.out, "faces_total"), 3674u);
+
+  const AppRun culled = run("field query " + vfd + view + " --json --mesh " + bunny + " -o " + dir + "/c.ply", dir);
+  ASSERT_EQ(culled.code, 0) << culled.err;
+  const Mesh input = read_mesh(bunny), kept = read_mesh(dir + "/c.ply");
+  const std::vector<std::uint32_t> source = source_faces(dir + "/c.ply");
+  ASSERT_EQ(kept.num_faces(), json_count(culled.out, "faces_kept"));
+  ASSERT_EQ(source.size(), kept.num_faces());
+  EXPECT_TRUE(std::is_sorted(source.begin(), source.end()));
+  for (std::size_t f = 0; f < source.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = kept.positions[kept.faces[f][k]], b = input.positions[input.faces[source[f]][k]];
+      ASSERT_NEAR(a.x, b.x, 1e-6);
+      ASSERT_NEAR(a.z, b.z, 1e-6);
+    }
+  }
+  // The field refuses another mesh.
+  const AppRun wrong = run("field query " + vfd + view + " --mesh " + dir + "/c.ply -o " + dir + "/x.ply", dir);
+  EXPECT_EQ(wrong.code, 1);
+  EXPECT_NE(wrong.err.find("another mesh"), std::string::npos) << wrong.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
+}
+
+TEST_F(App, FieldBadInputExitsTwoNamingTheFlag) {
+  const std::string vfd = dir + "/bunny.vfd";
+  ASSERT_EQ(run("field build " + bunny + " -o " + vfd + " --uv 4 --st 4", dir).code, 0);
+  for (const auto& [args, flag] : std::vector<std::pair<std::string, std::string>>{
+           {"field query " + vfd, "--view"},
+           {"field query " + vfd + " --view 1,2", "--view"},
+           {"field query " + vfd + " --view 1,2,nan", "--view"},
+           {"field query " + vfd + " --view a,b,c", "--view"},
+           {"field query " + vfd + " --view 9,9,9 --look 9,9,9", "--look"},
+           {"field query " + vfd + " --view 0,4,0", "--view"},  // inside the bunny
+           {"field query " + vfd + " --view 9,9,9 --subsample 3", "--subsample"},
+           {"field query " + vfd + " --view 9,9,9 --interp cubic", "interpolation"},
+           {"field query " + vfd + " --view 9,9,9 --fov 0", "--fov"},
+           {"field query " + vfd + " --view 9,9,9 --resolution 8", "--resolution"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --grid 0", "--grid"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --grid 256", "--grid"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --uv 1", "--uv"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --st 65", "--st"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --ids 9", "--ids"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --ids 0", "--ids"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --slabs 2", "--slabs"},
+           {"field build " + bunny + " -o " + dir + "/x.vfd --cells octree", "cell mode"},
+       }) {
+    const AppRun r = run(args, dir);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.vfd"));
+  // A damaged field file: exit 1, naming the file.
+  std::ofstream(dir + "/cut.vfd", std::ios::binary) << test::slurp(vfd).substr(0, 100);
+  const AppRun cut = run("field query " + dir + "/cut.vfd --view 9,9,9", dir);
+  EXPECT_EQ(cut.code, 1);
+  EXPECT_NE(cut.err.find("cut.vfd"), std::string::npos) << cut.err;
 }
 
 }  // namespace

@@ -145,7 +145,16 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     const Slab& slab = field_.slabs[i];
     SlabQuery& q = query[i];
     const double x = coord(view.eye, slab.axis);
+    // An eye outside the box reads layer 0: the box lies wholly ahead of it on every line
+    // into the box, so nothing is between the box's side and the eye.
+    const bool outside =
+        !(view.eye.x >= field_.box.min.x && view.eye.x <= field_.box.max.x && view.eye.y >= field_.box.min.y &&
+          view.eye.y <= field_.box.max.y && view.eye.z >= field_.box.min.z && view.eye.z <= field_.box.max.z);
     for (std::size_t k = 0; k < slab.starts.size(); ++k) {
+      if (outside) {
+        q.layer = 0;
+        break;
+      }
       if (slab.side * (x - slab.starts[k]) >= 0) {
         q.layer = static_cast<int>(k);
         break;
@@ -153,7 +162,7 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     }
     const double box_far = slab.side > 0 ? coord(field_.box.min, slab.axis) : coord(field_.box.max, slab.axis);
     const double plane_ahead = q.layer >= 0 ? slab.starts[static_cast<std::size_t>(q.layer)] : box_far;
-    q.gap = q.layer != 0 && slab.side * (x - box_far) > 0;
+    q.gap = !outside && q.layer != 0 && slab.side * (x - box_far) > 0;
     q.gap_lo = std::min(x, plane_ahead);
     q.gap_hi = std::max(x, plane_ahead);
     int level = options.mip;
