@@ -85,14 +85,15 @@ struct Path {
 };
 
 // "around": an orbit 20° above the plane of the box's two longest axes, at 1.6 half
-// diagonals; "through": along the longest axis from outside into the box, looking ahead.
+// diagonals; "through": along the longest axis from outside into the box, looking ahead;
+// "front": an arc in front of the +z side (for the single-slab comparison).
 std::vector<Path> camera_paths(const BoundingBox& box, std::size_t frames) {
   const Vec3 c = box.center(), h = (box.max - box.min) * 0.5;
   int axes[3] = {0, 1, 2};
   std::sort(axes, axes + 3, [&](int a, int b) { return coord(h, a) > coord(h, b); });
   const Vec3 eL = unit_axis(axes[0]), eM = unit_axis(axes[1]), eS = unit_axis(axes[2]);
   const double radius = 1.6 * norm(h);
-  Path around{"around", {}}, through{"through", {}};
+  Path around{"around", {}}, through{"through", {}}, front{"front", {}};
   const double elevation = 20 * M_PI / 180;
   for (std::size_t k = 0; k < frames; ++k) {
     const double theta = 2 * M_PI * static_cast<double>(k) / static_cast<double>(frames);
@@ -103,8 +104,13 @@ std::vector<Path> camera_paths(const BoundingBox& box, std::size_t frames) {
     const double along = -(coord(h, axes[0]) + 0.5 * norm(h)) + f * (1.3 * coord(h, axes[0]) + 0.5 * norm(h));
     const Vec3 p = c + eL * along + eM * (0.25 * coord(h, axes[1])) + eS * (0.1 * coord(h, axes[2]));
     through.views.push_back({p, p + eL});
+    // Within reach of the paper's single +z slab: 2.5 half diagonals out, ±15° about +z, so
+    // every ray to the box is within 45° of −z.
+    const double alpha = (f - 0.5) * 30 * M_PI / 180;
+    const Vec3 dir{std::sin(alpha), 0.17, std::cos(alpha)};
+    front.views.push_back({c + dir * (2.5 * norm(h) / norm(dir)), c});
   }
-  return {around, through};
+  return {around, through, front};
 }
 
 // Patches for view reconstruction over the field's cells, numbered by lowest face.
@@ -208,7 +214,7 @@ FieldStudy run_field_study(const Mesh& mesh, const FieldStudyOptions& options, R
   resamplers.reserve(fields.size());
   for (const VisibilityField& f : fields) resamplers.emplace_back(f);
   FieldOptions single_options = options.field;
-  single_options.ids = 1;
+  single_options.ids = options.id_counts.front();
   single_options.slabs = 1;
   single_options.layers = 1;
   const VisibilityField single = build_field(mesh, single_options);
@@ -260,7 +266,7 @@ FieldStudy run_field_study(const Mesh& mesh, const FieldStudyOptions& options, R
     return it->second;
   };
   Accumulator single_row;
-  single_row.row = {"around", "field, 1 slab", 1, "none", options.subsample};
+  single_row.row = {"front", "field, 1 slab", options.id_counts.front(), "none", options.subsample};
 
   PerspectiveRasterizer raster;
   PerspectiveFrame full, culled;
@@ -301,8 +307,12 @@ FieldStudy run_field_study(const Mesh& mesh, const FieldStudyOptions& options, R
       };
       ResampleOptions resample;
       resample.subsample = options.subsample;
+      // "front" only sets six slabs against the paper's one: the first id count, no post-filter.
+      const bool front = path.name == "front";
       for (std::size_t i = 0; i < fields.size(); ++i) {
+        if (front && i != 0) break;
         for (Interpolation interp : interps) {
+          if (front && interp != Interpolation::None) break;
           resample.interpolation = interp;
           const auto t = Clock::now();
           resamplers[i].resample(view, resample, result);
@@ -317,7 +327,7 @@ FieldStudy run_field_study(const Mesh& mesh, const FieldStudyOptions& options, R
                  static_cast<double>(result.cells_marked), ms_select, ms_render);
         }
       }
-      if (path.name == "around") {
+      if (front) {
         resample.interpolation = Interpolation::None;
         const auto t = Clock::now();
         single_resampler.resample(view, resample, result);
@@ -325,6 +335,7 @@ FieldStudy run_field_study(const Mesh& mesh, const FieldStudyOptions& options, R
         single_resampler.append_cell_faces(result.marked, faces);
         const double ms_select = ms_since(t);
         record(single_row, static_cast<double>(result.cells_marked), ms_select, draw_culled(local));
+        continue;
       }
       // (a) visibility tracing: rays at render time through 1 of k pixels.
       for (int k : options.trace_subsamples) {

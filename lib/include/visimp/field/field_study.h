@@ -37,7 +37,7 @@ void check_options(const FieldStudyOptions& options, std::size_t faces);
 
 /// One method on one path, averaged over the path's frames.
 struct FieldStudyRow {
-  std::string path;    ///< "around", "through"
+  std::string path;    ///< "around", "through", "front"
   std::string method;  ///< "field", "tracing", "patches"
   int ids = 0;         ///< field: ids per sample
   std::string interp;  ///< field: post-filter
@@ -65,7 +65,8 @@ struct FieldStudy {
   std::vector<std::string> paths;
   std::vector<std::size_t> frames_skipped;  ///< per path: viewpoints inside solid geometry
   std::vector<FieldStudyRow> rows;
-  /// The paper's single slab against six, on the "around" path (1 id, no post-filter).
+  /// The paper's single +z slab on the "front" path, which it reaches (the first id count,
+  /// no post-filter); the six-slab row of that path is in `rows`.
   FieldStudyRow single_slab;
   double seconds_total = 0;
 };
