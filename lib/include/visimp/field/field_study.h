@@ -38,7 +38,9 @@ void check_options(const FieldStudyOptions& options, std::size_t faces);
 /// One method on one path, averaged over the path's frames.
 struct FieldStudyRow {
   std::string path;    ///< "around", "through", "front"
-  std::string method;  ///< "field", "tracing", "patches"
+  /// "field", "field, 1 slab" (the paper's single +z slab, on "around" and "front"),
+  /// "field, mip auto" (the 4D mip-map, on "front"), "tracing", "patches"
+  std::string method;
   int ids = 0;         ///< field: ids per sample
   std::string interp;  ///< field: post-filter
   int subsample = 0;   ///< field and tracing: 1 of k pixels
@@ -65,9 +67,6 @@ struct FieldStudy {
   std::vector<std::string> paths;
   std::vector<std::size_t> frames_skipped;  ///< per path: viewpoints inside solid geometry
   std::vector<FieldStudyRow> rows;
-  /// The paper's single +z slab on the "front" path, which it reaches (the first id count,
-  /// no post-filter); the six-slab row of that path is in `rows`.
-  FieldStudyRow single_slab;
   double seconds_total = 0;
 };
 
