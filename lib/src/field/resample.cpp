@@ -180,53 +180,74 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
   auto mark_sample = [&](const std::uint32_t* entry) {
     for (int r = 0; r < ids && entry[r] != 0; ++r) out.marked[entry[r] - 1] = 1;
   };
+  // Per slab, what every ray needs: the eye in the slab's axes, the st plane, scales from
+  // coordinates to sample units, the samples of the level and layer read. One division per ray.
+  struct SlabFrame {
+    double eye_a = 0, eye_s = 0, eye_t = 0, plane = 0, s0 = 0, t0 = 0, s_scale = 0, t_scale = 0;
+    int s_axis = 0, t_axis = 0;
+    const std::uint32_t* data = nullptr;
+  };
+  std::vector<SlabFrame> frames(field_.slabs.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const Slab& slab = field_.slabs[i];
+    SlabFrame& f = frames[i];
+    f.s_axis = slab.s_axis();
+    f.t_axis = slab.t_axis();
+    f.eye_a = coord(view.eye, slab.axis);
+    f.eye_s = coord(view.eye, f.s_axis);
+    f.eye_t = coord(view.eye, f.t_axis);
+    f.plane = slab.plane;
+    f.s0 = slab.s_range[0];
+    f.t0 = slab.t_range[0];
+    f.s_scale = query[i].st / (slab.s_range[1] - slab.s_range[0]);
+    f.t_scale = query[i].st / (slab.t_range[1] - slab.t_range[0]);
+    if (query[i].layer >= 0) f.data = samples(query[i].level, i, static_cast<std::size_t>(query[i].layer)).data();
+  }
+  // Nearest sample (c in sample units, −0.5 .. n − 0.5) or the two around it.
+  auto axis_samples = [](double c, int n, bool both, int(&out2)[2]) {
+    if (!both) {
+      out2[0] = out2[1] = std::min(static_cast<int>(c + 0.5), n - 1);
+    } else {
+      const int lo = static_cast<int>(std::floor(c));
+      out2[0] = std::clamp(lo, 0, n - 1);
+      out2[1] = std::clamp(lo + 1, 0, n - 1);
+    }
+  };
+  const int nu = interp_uv ? 2 : 1, ns = interp_st ? 2 : 1;
   for (int j = 0; j * stride < size; ++j) {
     for (int i = 0; i * stride < size; ++i) {
       ++out.rays;
-      const Vec3 d = view.pixel_ray(i * stride + 0.5 * stride - 0.5, j * stride + 0.5 * stride - 0.5);
-      const double ad[3] = {std::abs(d.x), std::abs(d.y), std::abs(d.z)};
+      const Vec3 dv = view.pixel_ray(i * stride + 0.5 * stride - 0.5, j * stride + 0.5 * stride - 0.5);
+      const double d[3] = {dv.x, dv.y, dv.z};
+      const double ad[3] = {std::abs(d[0]), std::abs(d[1]), std::abs(d[2])};
       const int axis = ad[0] >= ad[1] && ad[0] >= ad[2] ? 0 : ad[1] >= ad[2] ? 1 : 2;
-      const double da = coord(d, axis);
-      const int slab_index = slab_of_[axis][da < 0 ? 1 : 0];  // travelling −a: the viewer is on the + side
+      const int slab_index = slab_of_[axis][d[axis] < 0 ? 1 : 0];  // travelling −a: the viewer is on the + side
       if (slab_index < 0) continue;
       SlabQuery& q = query[static_cast<std::size_t>(slab_index)];
       q.used = true;
-      if (q.layer < 0) continue;
-      const Slab& slab = field_.slabs[static_cast<std::size_t>(slab_index)];
-      const double u = coord(d, slab.s_axis()) / ad[axis], v = coord(d, slab.t_axis()) / ad[axis];
-      const double lambda = (slab.plane - coord(view.eye, axis)) / da;
-      const double s = coord(view.eye, slab.s_axis()) + lambda * coord(d, slab.s_axis());
-      const double t = coord(view.eye, slab.t_axis()) + lambda * coord(d, slab.t_axis());
-      const double fs = (s - slab.s_range[0]) / (slab.s_range[1] - slab.s_range[0]);
-      const double ft = (t - slab.t_range[0]) / (slab.t_range[1] - slab.t_range[0]);
-      if (!(fs >= 0 && fs <= 1 && ft >= 0 && ft <= 1)) continue;  // the line misses the box
-      ++out.rays_in_field;
+      const SlabFrame& f = frames[static_cast<std::size_t>(slab_index)];
+      if (f.data == nullptr) continue;
+      const double inv = 1 / ad[axis];
+      const double u = d[f.s_axis] * inv, v = d[f.t_axis] * inv;
+      const double lambda = (f.plane - f.eye_a) * (d[axis] < 0 ? -inv : inv);
       const int uvn = q.uv, stn = q.st;
+      const double cs = (f.eye_s + lambda * d[f.s_axis] - f.s0) * f.s_scale - 0.5;
+      const double ct = (f.eye_t + lambda * d[f.t_axis] - f.t0) * f.t_scale - 0.5;
+      if (!(cs >= -0.5 && cs <= stn - 0.5 && ct >= -0.5 && ct <= stn - 0.5)) continue;  // the line misses the box
+      ++out.rays_in_field;
       const double cu = (u + 1) * 0.5 * uvn - 0.5, cv = (v + 1) * 0.5 * uvn - 0.5;
-      const double cs = fs * stn - 0.5, ct = ft * stn - 0.5;
-      auto axis_samples = [](double c, int n, bool both, int(&out2)[2]) {
-        if (!both) {
-          out2[0] = out2[1] = std::clamp(static_cast<int>(std::lround(c)), 0, n - 1);
-        } else {
-          const int lo = static_cast<int>(std::floor(c));
-          out2[0] = std::clamp(lo, 0, n - 1);
-          out2[1] = std::clamp(lo + 1, 0, n - 1);
-        }
-      };
       int su[2], sv[2], ss[2], sts[2];
       axis_samples(cu, uvn, interp_uv, su);
       axis_samples(cv, uvn, interp_uv, sv);
       axis_samples(cs, stn, interp_st, ss);
       axis_samples(ct, stn, interp_st, sts);
-      const Samples& data = samples(q.level, static_cast<std::size_t>(slab_index), static_cast<std::size_t>(q.layer));
-      const int nu = interp_uv ? 2 : 1, ns = interp_st ? 2 : 1;
       for (int a = 0; a < nu; ++a)
         for (int b = 0; b < nu; ++b)
           for (int c = 0; c < ns; ++c)
             for (int e = 0; e < ns; ++e) {
               const std::size_t index =
                   (((static_cast<std::size_t>(su[a]) * uvn + sv[b]) * stn + ss[c]) * stn + sts[e]) * ids;
-              mark_sample(&data[index]);
+              mark_sample(f.data + index);
             }
     }
   }
