@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include "cli.h"
 #include "commands.h"
@@ -165,12 +166,15 @@ int run_query(const Args& args) {
   const double seconds = seconds_since(t);
   const std::vector<std::uint32_t> faces = resampler.faces_of(result.marked);
 
+  std::optional<Mesh> mesh;
+  if (!mesh_path.empty()) {  // checked even without -o: a mismatch is worth knowing
+    mesh = read_input(mesh_path, stream);
+    check_field_matches(field, *mesh, path, mesh_path);
+  }
   if (!out.empty()) {
-    const Mesh mesh = read_input(mesh_path, stream);
-    check_field_matches(field, mesh, path, mesh_path);
-    std::vector<std::uint8_t> keep(mesh.num_faces(), 0);
+    std::vector<std::uint8_t> keep(mesh->num_faces(), 0);
     for (std::uint32_t f : faces) keep[f] = 1;
-    write_output(keep_faces(mesh, keep), out, mesh_path, stream, &faces);
+    write_output(keep_faces(*mesh, keep), out, mesh_path, stream, &faces);
   }
   std::ostream& report = out == "-" ? std::cerr : std::cout;
   if (json_out) {

@@ -253,6 +253,57 @@ TEST(Field, FileRoundTripAndRefusals) {
     EXPECT_NE(std::string(e.what()).find("version 2"), std::string::npos) << e.what();
   }
   EXPECT_THROW(parse_field_file(bytes + "x", "long.vfd"), IoError);
+  // Slabs that do not follow from the box and options (a flipped bit in a start plane).
+  const std::size_t slab_table = bytes.size() - 4096 - sizes.coded_sample_bytes - 8 * 2;
+  bad = bytes;
+  bad[slab_table] = static_cast<char>(bad[slab_table] ^ 0x10);
+  EXPECT_THROW(parse_field_file(bad, "slab.vfd"), IoError);
+}
+
+TEST(Field, MipLevelsOddCountsFarViewsAndViewsAwayFromTheBox) {
+  const Mesh sphere = test::icosphere(3);
+  FieldOptions options;
+  options.cells.grid = 6;
+  options.uv = 5;  // odd counts: a coarse level's last sample holds one fine sample
+  options.st = 7;
+  options.ids = 2;
+  const VisibilityField field = build_field(sphere, options);
+  const FieldResampler resampler(field);
+  ASSERT_GE(resampler.mip_levels(), 3);
+  ResampleOptions r;
+  r.subsample = 1;
+  const PerspectiveView near_view = view_of(field, {0, 0, 5}, {0, 0, 0}, 40);
+  EXPECT_GT(resampler.resample(near_view, r).cells_marked, 0u);
+  for (int level = 1; level < resampler.mip_levels(); ++level) {
+    r.mip = level;
+    const ResampleResult coarse = resampler.resample(near_view, r);
+    EXPECT_EQ(coarse.mip_level, level);
+    // A coarse sample keeps the most frequent ids of its children: it still marks cells
+    // (the odd counts' last samples included: no ray reads past the end).
+    EXPECT_GT(coarse.cells_marked, 0u) << level;
+  }
+  // Far away, the automatic level is the deepest; a viewer at 1e300 must not overflow.
+  r.mip = -1;
+  for (const double distance : {1e4, 1e300}) {
+    const ResampleResult far = resampler.resample(view_of(field, {0, 0, distance}, {0, 0, 0}, 40), r);
+    EXPECT_EQ(far.mip_level, resampler.mip_levels() - 1) << distance;
+  }
+  // Looking away from the box, nothing is marked (the lines cross it behind the eye).
+  r.mip = 0;
+  const ResampleResult away = resampler.resample(view_of(field, {0, 0, 5}, {0, 0, 10}, 90), r);
+  EXPECT_EQ(away.cells_marked, 0u);
+  EXPECT_EQ(away.rays_in_field, 0u);
+}
+
+TEST(Field, SparseGroupNumbersBecomeDenseObjects) {
+  const Mesh scene = wall_with_window_and_box();
+  CellOptions groups;
+  groups.grid = 2;
+  groups.face_objects.assign(scene.num_faces(), 16777215u);
+  for (std::size_t f = 0; f < 8; ++f) groups.face_objects[f] = 7;
+  const CellPartition cells = partition_cells(scene, groups);
+  EXPECT_EQ(cells.objects, 2u);
+  for (const CellKey& k : cells.keys) EXPECT_LT(k.object, 2u);
 }
 
 TEST(Field, AViewerInsideTheBoxUsesTheLayerAheadAndMarksTheGap) {

@@ -104,8 +104,13 @@ CellPartition partition_cells(const Mesh& mesh, const CellOptions& options) {
     object.assign(faces, 0);
     out.objects = faces ? 1 : 0;
   } else if (!options.face_objects.empty()) {
-    object = options.face_objects;
-    out.objects = faces ? *std::max_element(object.begin(), object.end()) + std::size_t{1} : 0;
+    // Group numbers may be sparse: objects are numbered densely in order of first appearance.
+    std::unordered_map<std::uint32_t, std::uint32_t> dense;
+    object.resize(faces);
+    for (std::size_t f = 0; f < faces; ++f) {
+      object[f] = dense.emplace(options.face_objects[f], static_cast<std::uint32_t>(dense.size())).first->second;
+    }
+    out.objects = dense.size();
   } else {
     object = face_components(mesh, &out.objects);
   }

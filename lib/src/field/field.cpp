@@ -137,7 +137,7 @@ VisibilityField build_field(const Mesh& mesh, const FieldOptions& options, Rende
     const Vec3 p = mesh.positions[i] - center;
     relative[i] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
   }
-  const RayCaster caster(relative, mesh.faces);
+  const RayCaster caster(relative, mesh.faces, static_cast<unsigned>(options.threads));
 
   const int uv = options.uv, st = options.st, ids = options.ids;
   const std::size_t per_layer = field.samples_per_layer();

@@ -168,7 +168,7 @@ VisibilityField parse_field_file(const std::string& bytes, const std::string& pa
   // Runs can expand a few bytes into a lot: bound what the header claims before allocating
   // (a real file expands far less than 4096-fold plus 64 MiB).
   const std::uint64_t slabs = static_cast<std::uint64_t>(o.slabs) * static_cast<std::uint64_t>(o.layers);
-  const std::uint64_t expanded = f.faces * 4 + slabs * f.samples_per_layer() * static_cast<std::uint64_t>(o.ids) * 4;
+  const std::uint64_t expanded = f.faces * 8 + slabs * f.samples_per_layer() * static_cast<std::uint64_t>(o.ids) * 4;
   if (expanded > 4096 * static_cast<std::uint64_t>(bytes.size()) + (std::uint64_t{64} << 20)) {
     throw IoError(path, "the header claims " + std::to_string(expanded) + " bytes of data from a " +
                             std::to_string(bytes.size()) + "-byte file");
@@ -186,6 +186,10 @@ VisibilityField parse_field_file(const std::string& bytes, const std::string& pa
     BoundingBox& b = f.cells.bounds[c];
     b.min.x = get_f32(r), b.min.y = get_f32(r), b.min.z = get_f32(r);
     b.max.x = get_f32(r), b.max.y = get_f32(r), b.max.z = get_f32(r);
+    if (k.object >= f.cells.objects || !(b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z) ||
+        !std::isfinite(b.diagonal())) {
+      throw IoError(path, "holds a bad record for cell " + std::to_string(c) + " (object or bounding box)");
+    }
   }
   f.cells.face_cell.resize(f.faces);
   decode_runs(r, f.cells.face_cell, 0, 1, static_cast<std::uint32_t>(cells - 1), path, "face cell");
@@ -194,26 +198,26 @@ VisibilityField parse_field_file(const std::string& bytes, const std::string& pa
     auto& off = f.cells.cell_offsets;
     off.assign(cells + 1, 0);
     for (std::uint32_t c : f.cells.face_cell) ++off[c + 1];
-    for (std::size_t c = 0; c < cells; ++c) off[c + 1] += off[c];
+    for (std::size_t c = 0; c < cells; ++c) {
+      if (off[c + 1] == 0) throw IoError(path, "holds cell " + std::to_string(c) + " without faces");
+      off[c + 1] += off[c];
+    }
     f.cells.cell_faces.resize(f.faces);
     std::vector<std::uint32_t> next(off.begin(), off.end() - 1);
     for (std::size_t i = 0; i < f.faces; ++i)
       f.cells.cell_faces[next[f.cells.face_cell[i]]++] = static_cast<std::uint32_t>(i);
   }
-  const std::vector<Slab> expected = place_slabs(f.box, o.slabs, o.layers);
-  f.slabs.resize(expected.size());
-  for (Slab& s : f.slabs) {
-    s.axis = static_cast<int>(r.u32());
-    s.side = r.u32() ? 1 : -1;
-    if (s.axis > 2) throw IoError(path, "holds a slab with axis " + std::to_string(s.axis));
-    s.plane = r.f64();
-    s.s_range = {r.f64(), r.f64()};
-    s.t_range = {r.f64(), r.f64()};
-    s.starts.resize(static_cast<std::size_t>(o.layers));
-    for (double& v : s.starts) v = r.f64();
-    if (!(s.s_range[1] > s.s_range[0]) || !(s.t_range[1] > s.t_range[0]) || !std::isfinite(s.plane)) {
-      throw IoError(path, "holds a slab with an empty or non-finite st rectangle");
-    }
+  // Slabs are a function of the box and the options: a file must hold exactly those (so a
+  // corrupt one cannot leave a direction without its slab or give a degenerate rectangle).
+  f.slabs = place_slabs(f.box, o.slabs, o.layers);
+  for (const Slab& expected : f.slabs) {
+    const std::uint32_t axis = r.u32(), side = r.u32();
+    bool same = axis == static_cast<std::uint32_t>(expected.axis) && side == (expected.side > 0 ? 1u : 0u);
+    for (double v :
+         {expected.plane, expected.s_range[0], expected.s_range[1], expected.t_range[0], expected.t_range[1]})
+      same &= r.f64() == v;
+    for (double v : expected.starts) same &= r.f64() == v;
+    if (!same) throw IoError(path, "holds slabs that do not match its scene box and options");
   }
   f.samples.resize(f.slabs.size());
   for (auto& slab : f.samples) {

@@ -170,13 +170,19 @@ struct Accumulator {
   }
 };
 
+// A pixel is missed when the culled render shows another face at another depth: a hole, or a
+// face that should be hidden. Another face at the same depth (a coplanar duplicate winning
+// the tie because drawing orders differ) is not a miss. Depths compare as view distances
+// (depth = 1 − near/z), relative 1e-4.
 std::uint64_t missed_pixels(const PerspectiveFrame& full, const PerspectiveFrame& culled, std::uint64_t& full_pixels) {
   std::uint64_t missed = 0;
   full_pixels = 0;
   for (std::size_t p = 0; p < full.ids.size(); ++p) {
     if (full.ids[p] == 0) continue;
     ++full_pixels;
-    missed += culled.ids[p] != full.ids[p];
+    if (culled.ids[p] == full.ids[p]) continue;
+    const double z_full = 1.0 / (1.0 - full.depth[p]), z_culled = 1.0 / std::max(1e-30, 1.0 - double(culled.depth[p]));
+    missed += culled.ids[p] == 0 || std::abs(z_culled - z_full) > 1e-4 * z_full;
   }
   return missed;
 }
@@ -228,7 +234,7 @@ FieldStudy run_field_study(const Mesh& mesh, const FieldStudyOptions& options, R
     const Vec3 p = mesh.positions[i] - center;
     relative[i] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
   }
-  const RayCaster caster(relative, mesh.faces);
+  const RayCaster caster(relative, mesh.faces, static_cast<unsigned>(options.field.threads));
 
   // (b) patch bitfields over the same cells, as many cameras as the 1-id field's bytes hold.
   std::unique_ptr<ViewReconstructor> reconstructor;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "visimp/core/errors.h"
@@ -137,6 +138,7 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
   // gap of geometry lies between eye and that plane, and the mip level.
   struct SlabQuery {
     int layer = -1, level = 0, uv = 0, st = 0;
+    double shrink = 1;
     bool gap = false, used = false;
     double gap_lo = 0, gap_hi = 0;
   };
@@ -167,14 +169,22 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     q.gap_hi = std::max(x, plane_ahead);
     int level = options.mip;
     if (level < 0) {
-      // Query rays' spacing on the st plane against one st sample.
+      // Query rays' spacing on the st plane against one st sample; clamped in double before
+      // any cast (a far or degenerate view gives an infinite ratio).
       const double footprint = std::abs(x - slab.plane) * 2 * view.tan_half_fov * stride / size;
       const double sample = (slab.s_range[1] - slab.s_range[0]) / field_.options.st;
-      level = footprint > sample ? static_cast<int>(std::floor(std::log2(footprint / sample))) : 0;
+      const double ratio = footprint / sample;
+      const int deepest = mip_levels() - 1;
+      level = !(ratio > 1)                        ? 0
+              : ratio >= std::ldexp(1.0, deepest) ? deepest
+                                                  : static_cast<int>(std::floor(std::log2(ratio)));
     }
     q.level = std::min(level, mip_levels() - 1);
     q.uv = q.level == 0 ? field_.options.uv : levels_[static_cast<std::size_t>(q.level - 1)].uv;
     q.st = q.level == 0 ? field_.options.st : levels_[static_cast<std::size_t>(q.level - 1)].st;
+    // Coarse sample j of level ℓ holds fine samples 2j, 2j + 1 of level ℓ − 1: positions in
+    // level-0 units divided by 2^ℓ (exact also for odd counts, whose last coarse sample is half).
+    q.shrink = std::ldexp(1.0, -q.level);
   }
 
   auto mark_sample = [&](const std::uint32_t* entry) {
@@ -199,14 +209,14 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     f.plane = slab.plane;
     f.s0 = slab.s_range[0];
     f.t0 = slab.t_range[0];
-    f.s_scale = query[i].st / (slab.s_range[1] - slab.s_range[0]);
-    f.t_scale = query[i].st / (slab.t_range[1] - slab.t_range[0]);
+    f.s_scale = field_.options.st / (slab.s_range[1] - slab.s_range[0]);
+    f.t_scale = field_.options.st / (slab.t_range[1] - slab.t_range[0]);
     if (query[i].layer >= 0) f.data = samples(query[i].level, i, static_cast<std::size_t>(query[i].layer)).data();
   }
   // Nearest sample (c in sample units, −0.5 .. n − 0.5) or the two around it.
   auto axis_samples = [](double c, int n, bool both, int(&out2)[2]) {
     if (!both) {
-      out2[0] = out2[1] = std::min(static_cast<int>(c + 0.5), n - 1);
+      out2[0] = out2[1] = std::clamp(static_cast<int>(c + 0.5), 0, n - 1);
     } else {
       const int lo = static_cast<int>(std::floor(c));
       out2[0] = std::clamp(lo, 0, n - 1);
@@ -214,6 +224,10 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     }
   };
   const int nu = interp_uv ? 2 : 1, ns = interp_st ? 2 : 1;
+  const double st0 = field_.options.st, uv0 = field_.options.uv;
+  const double eye[3] = {view.eye.x, view.eye.y, view.eye.z};
+  const double box_lo[3] = {field_.box.min.x, field_.box.min.y, field_.box.min.z};
+  const double box_hi[3] = {field_.box.max.x, field_.box.max.y, field_.box.max.z};
   for (int j = 0; j * stride < size; ++j) {
     for (int i = 0; i * stride < size; ++i) {
       ++out.rays;
@@ -231,11 +245,22 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
       const double u = d[f.s_axis] * inv, v = d[f.t_axis] * inv;
       const double lambda = (f.plane - f.eye_a) * (d[axis] < 0 ? -inv : inv);
       const int uvn = q.uv, stn = q.st;
-      const double cs = (f.eye_s + lambda * d[f.s_axis] - f.s0) * f.s_scale - 0.5;
-      const double ct = (f.eye_t + lambda * d[f.t_axis] - f.t0) * f.t_scale - 0.5;
-      if (!(cs >= -0.5 && cs <= stn - 0.5 && ct >= -0.5 && ct <= stn - 0.5)) continue;  // the line misses the box
+      const double s_units = (f.eye_s + lambda * d[f.s_axis] - f.s0) * f.s_scale;  // level-0 samples
+      const double t_units = (f.eye_t + lambda * d[f.t_axis] - f.t0) * f.t_scale;
+      if (!(s_units >= 0 && s_units <= st0 && t_units >= 0 && t_units <= st0)) continue;  // the line misses the box
+      // The box must lie ahead of the eye on the ray, not behind it (a view looking away).
+      double t_in = 0, t_out = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 3; ++k) {
+        const double inv_k = 1 / d[k];  // ±inf for 0: the slab test below still holds
+        double ta = (box_lo[k] - eye[k]) * inv_k, tb = (box_hi[k] - eye[k]) * inv_k;
+        if (ta > tb) std::swap(ta, tb);
+        if (ta > t_in) t_in = ta;
+        if (tb < t_out) t_out = tb;
+      }
+      if (!(t_in <= t_out)) continue;
       ++out.rays_in_field;
-      const double cu = (u + 1) * 0.5 * uvn - 0.5, cv = (v + 1) * 0.5 * uvn - 0.5;
+      const double cs = s_units * q.shrink - 0.5, ct = t_units * q.shrink - 0.5;
+      const double cu = (u + 1) * 0.5 * uv0 * q.shrink - 0.5, cv = (v + 1) * 0.5 * uv0 * q.shrink - 0.5;
       int su[2], sv[2], ss[2], sts[2];
       axis_samples(cu, uvn, interp_uv, su);
       axis_samples(cv, uvn, interp_uv, sv);

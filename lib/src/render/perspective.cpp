@@ -101,7 +101,7 @@ void PerspectiveRasterizer::draw_face(std::uint32_t f, const std::vector<Face>& 
         return kGuardBand * t * v.z + v.y;
     }
   };
-  ViewVertex polygon[2][9];
+  ViewVertex polygon[2][16];  // a triangle clipped by 5 planes has at most 8 vertices
   int n = 3;
   for (int k = 0; k < 3; ++k) polygon[0][k] = view_vertices_[faces[f][k]];
   int current = 0;
@@ -122,6 +122,7 @@ void PerspectiveRasterizer::draw_face(std::uint32_t f, const std::vector<Face>& 
       const ViewVertex& a = in[k];
       const ViewVertex& b = in[(k + 1) % n];
       const float da = plane(a, p), db = plane(b, p);
+      if (m + 2 > 16) return;  // float error on a sliver: drop it rather than overrun
       if (da >= 0) clipped[m++] = a;
       if ((da >= 0) != (db >= 0)) {
         const float s = da / (da - db);
@@ -132,8 +133,8 @@ void PerspectiveRasterizer::draw_face(std::uint32_t f, const std::vector<Face>& 
     current = 1 - current;
     if (n < 3) return;
   }
-  ScreenVertex screen[9];
-  raster::SnappedVertex snapped[9];
+  ScreenVertex screen[16];
+  raster::SnappedVertex snapped[16];
   for (int k = 0; k < n; ++k) {
     const ViewVertex& v = polygon[current][k];
     const float inv = 1.0f / (v.z * t);

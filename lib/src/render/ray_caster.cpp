@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "visimp/core/errors.h"
 
@@ -15,13 +16,16 @@ struct RayCaster::Impl {
   RTCScene scene = nullptr;
 };
 
-RayCaster::RayCaster(const std::vector<std::array<float, 3>>& positions, const std::vector<Face>& faces)
+RayCaster::RayCaster(const std::vector<std::array<float, 3>>& positions, const std::vector<Face>& faces,
+                     unsigned threads)
     : impl_(std::make_unique<Impl>()) {
-  impl_->device = rtcNewDevice(nullptr);
+  const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
+  impl_->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (impl_->device == nullptr) throw BackendError("embree: could not create a device");
   impl_->scene = rtcNewScene(impl_->device);
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  // Embree reads vertex buffers 16 bytes at a time: one float of padding after the last.
+  // Embree may read 16 bytes from the last vertex; rtcSetNewGeometryBuffer pads, the extra
+  // vertex (never indexed) keeps that true for any buffer we hand it.
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                         3 * sizeof(float), positions.size() + 1));
   for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -40,6 +44,14 @@ RayCaster::RayCaster(const std::vector<std::array<float, 3>>& positions, const s
   rtcAttachGeometry(impl_->scene, geometry);
   rtcReleaseGeometry(geometry);
   rtcCommitScene(impl_->scene);
+  // Out of memory or a bad argument would otherwise read as "no hit" for every ray.
+  const RTCError error = rtcGetDeviceError(impl_->device);
+  if (error != RTC_ERROR_NONE) {
+    rtcReleaseScene(impl_->scene);
+    rtcReleaseDevice(impl_->device);
+    throw BackendError("embree: building the ray-casting structure failed (error " +
+                       std::to_string(static_cast<int>(error)) + ")");
+  }
 }
 
 RayCaster::~RayCaster() {

@@ -19,8 +19,10 @@ class RayCaster {
  public:
   static constexpr std::uint32_t kNoHit = 0xffffffffu;
 
-  /// Builds the acceleration structure over `faces` (degenerate faces are never hit).
-  RayCaster(const std::vector<std::array<float, 3>>& positions, const std::vector<Face>& faces);
+  /// Builds the acceleration structure over `faces` (degenerate faces are never hit) with
+  /// `threads` threads (0 = Embree's default, one per hardware thread). Throws BackendError
+  /// when Embree fails (out of memory, for one).
+  RayCaster(const std::vector<std::array<float, 3>>& positions, const std::vector<Face>& faces, unsigned threads = 0);
   ~RayCaster();
   RayCaster(const RayCaster&) = delete;
   RayCaster& operator=(const RayCaster&) = delete;
