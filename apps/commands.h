@@ -21,5 +21,6 @@ int run_imgerr(const Args& args);
 int run_compare(const Args& args);
 int run_patches(const Args& args);
 int run_field(const Args& args);
+int run_scene(const Args& args);
 
 }  // namespace visimp::app

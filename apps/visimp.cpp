@@ -35,6 +35,7 @@ constexpr const char* kUsage =
     "  imgerr A B                 image RMS error over 20 flat-shaded views (Zhang & Turk eq. 5.11)\n"
     "  patches build|query|study  patch bitfields and view reconstruction from the same sampling\n"
     "  field build|query|study    the visibility field: cell ids on two-plane slabs, resampled per view\n"
+    "  scene park|info            walkthrough scenes: meshes placed by transforms (statuary parks)\n"
     "\n"
     "'visimp COMMAND --help' describes each command; 'visimp --version' prints the version.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
     if (command == "compare") return app::run_compare(args);
     if (command == "patches") return app::run_patches(args);
     if (command == "field") return app::run_field(args);
+    if (command == "scene") return app::run_scene(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const OptionError& e) {
     std::cerr << "visimp " << command << ": error: " << app::describe_option_error(e) << "\n";

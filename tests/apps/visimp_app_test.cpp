@@ -30,11 +30,28 @@ class App : public ::testing::Test {
 };
 
 TEST_F(App, HelpEverywhereExitsZero) {
-  for (const char* cmd :
-       {"--help", "simplify --help", "info --help", "convert --help", "visibility --help", "visibility-merge --help",
-        "visibility-study --help", "orient --help", "metro --help", "imgerr --help", "compare --help", "patches --help",
-        "patches build --help", "patches query --help", "patches study --help", "field --help", "field build --help",
-        "field query --help", "field study --help"}) {
+  for (const char* cmd : {"--help",
+                          "simplify --help",
+                          "info --help",
+                          "convert --help",
+                          "visibility --help",
+                          "visibility-merge --help",
+                          "visibility-study --help",
+                          "orient --help",
+                          "metro --help",
+                          "imgerr --help",
+                          "compare --help",
+                          "patches --help",
+                          "patches build --help",
+                          "patches query --help",
+                          "patches study --help",
+                          "field --help",
+                          "field build --help",
+                          "field query --help",
+                          "field study --help",
+                          "scene --help",
+                          "scene park --help",
+                          "scene info --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -497,6 +514,27 @@ TEST_F(App, FieldBadInputExitsTwoNamingTheFlag) {
   const AppRun cut = run("field query " + dir + "/cut.vfd --view 9,9,9", dir);
   EXPECT_EQ(cut.code, 1);
   EXPECT_NE(cut.err.find("cut.vfd"), std::string::npos) << cut.err;
+}
+
+TEST_F(App, SceneParkWritesAScene) {
+  const AppRun park = run("scene park -o " + dir + "/park.json --objects 12 --area 80,50 --seed 3 --meshes " + bunny +
+                              "," + test::bundled_mesh("kicad_esp_wroom02.ply") + ":z --json",
+                          dir);
+  ASSERT_EQ(park.code, 0) << park.err;
+  EXPECT_EQ(json_count(park.out, "objects"), 12u);
+  const AppRun info = run("scene info " + dir + "/park.json --json", dir);
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_EQ(json_count(info.out, "objects"), 12u);
+  EXPECT_EQ(json_count(info.out, "faces"), json_count(park.out, "faces"));
+  for (const char* bad : {"scene park --objects 3", "scene park -o x.json --area 5",
+                                 "scene park -o x.json --objects 0", "scene frobnicate"}) {
+    const AppRun r = run(bad, dir);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
+  }
+  std::ofstream(dir + "/broken.json") << "{\"format\": \"visimp-scene\", \"version\": 1, \"objects\": [{}]}";
+  const AppRun broken = run("scene info " + dir + "/broken.json", dir);
+  EXPECT_EQ(broken.code, 1);
+  EXPECT_NE(broken.err.find("broken.json"), std::string::npos) << broken.err;
 }
 
 }  // namespace
