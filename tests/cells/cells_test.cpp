@@ -9,6 +9,7 @@
 #include "visimp/cells/hex_grid.h"
 #include "visimp/cells/regional_culling.h"
 #include "visimp/cells/scene.h"
+#include "visimp/cells/view_weights.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/portable_random.h"
@@ -205,6 +206,62 @@ TEST(Scene, ParksAreReproducibleUprightAndInsideTheirArea) {
   }
   options.seed = 2;
   EXPECT_NE(make_park(meshes, {false, false}, options).objects[0].transform, a.objects[0].transform);
+}
+
+TEST(ViewWeights, SilhouettesWeighMostAndHiddenVerticesNothing) {
+  const Mesh sphere = test::icosphere(4);
+  const Vec3 eye{0, -12, 0};
+  const DepthImage image = capture_depth(sphere, eye, 256);
+  const std::vector<float> w = depth_variation_weights(sphere, image);
+  double rim = 0, facing = 0, back = 0;
+  double n_rim = 0, n_facing = 0, n_back = 0;
+  for (std::size_t v = 0; v < sphere.num_vertices(); ++v) {
+    const Vec3& p = sphere.positions[v];  // the unit normal too
+    const double c = dot(p, (eye - p) * (1 / norm(eye - p)));
+    if (c > 0.7)
+      facing += w[v], ++n_facing;
+    else if (c > 0 && c < 0.05)
+      rim += w[v], ++n_rim;
+    else if (c < -0.3)
+      back += w[v], ++n_back;
+  }
+  ASSERT_GT(n_rim, 10);
+  EXPECT_GT(rim / n_rim, 0.6);
+  EXPECT_LT(facing / n_facing, 0.2);
+  EXPECT_EQ(back, 0.0);
+  // A cube's visible edges are creases: their vertices weigh more than the faces' middles.
+  const Mesh cube = test::subdivided_cube(8);
+  const DepthImage cube_image = capture_depth(cube, {3.1, -2.3, 2.7}, 256);
+  const std::vector<float> cw = depth_variation_weights(cube, cube_image);
+  double edge = 0, middle = 0;
+  double n_edge = 0, n_middle = 0;
+  for (std::size_t v = 0; v < cube.num_vertices(); ++v) {
+    const Vec3& p = cube.positions[v];
+    // On the three visible faces x = 1, y = 0, z = 1: the edges between them, away from corners.
+    const bool on_xz = std::abs(p.x - 1) < 1e-9 && std::abs(p.z - 1) < 1e-9 && p.y > 0.2 && p.y < 0.8;
+    const bool mid = std::abs(p.z - 1) < 1e-9 && std::abs(p.x - 0.5) < 0.2 && std::abs(p.y - 0.5) < 0.2;
+    if (on_xz) edge += cw[v], ++n_edge;
+    if (mid) middle += cw[v], ++n_middle;
+  }
+  ASSERT_GT(n_edge, 0);
+  ASSERT_GT(n_middle, 0);
+  EXPECT_GT(edge / n_edge, middle / n_middle + 0.2);
+}
+
+TEST(ViewWeights, SelfOccludingErrorIsSmallFarAwayAndLargeNearby) {
+  const HexGrid grid(5.0, 0.0);
+  const HexCell cell{0, 0};
+  const Vec3 centre = grid.eye_at_center(cell);
+  const auto corners = grid.corners(cell);
+  Mesh far = test::icosphere(3, 2.0), near = test::icosphere(3, 2.0);
+  for (Vec3& p : far.positions) p = p + Vec3{0, 300, 0};
+  for (Vec3& p : near.positions) p = p + Vec3{0, 9, 0};
+  const double s_far = self_occluding_error(far, centre, corners, 256, 60);
+  const double s_near = self_occluding_error(near, centre, corners, 256, 60);
+  EXPECT_LE(s_far, 1.0);
+  EXPECT_GE(s_near, 5.0);
+  // With Ts = 2 px the far sphere takes an SVMesh, the near one an MVMesh.
+  EXPECT_TRUE(s_far <= 2.0 && s_near > 2.0);
 }
 
 }  // namespace
