@@ -2,11 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/cells/hex_grid.h"
+#include "visimp/cells/lod_cost.h"
 #include "visimp/cells/regional_culling.h"
 #include "visimp/cells/scene.h"
 #include "visimp/cells/view_weights.h"
@@ -262,6 +264,54 @@ TEST(ViewWeights, SelfOccludingErrorIsSmallFarAwayAndLargeNearby) {
   EXPECT_GE(s_near, 5.0);
   // With Ts = 2 px the far sphere takes an SVMesh, the near one an MVMesh.
   EXPECT_TRUE(s_far <= 2.0 && s_near > 2.0);
+}
+
+// Pixels where exactly one of two renders shows something, over the pixels the first shows.
+double silhouette_difference(const Mesh& a, const Mesh& b, const PerspectiveView& view) {
+  auto positions = [&](const Mesh& m) {
+    std::vector<std::array<float, 3>> out;
+    for (const Vec3& p : m.positions) {
+      const Vec3 q = p - view.eye;
+      out.push_back({float(q.x), float(q.y), float(q.z)});
+    }
+    return out;
+  };
+  PerspectiveView local = view;
+  local.eye = Vec3{0, 0, 0};
+  PerspectiveRasterizer raster;
+  PerspectiveFrame fa, fb;
+  raster.draw(positions(a), a.faces, nullptr, local, fa);
+  raster.draw(positions(b), b.faces, nullptr, local, fb);
+  double shown = 0, differ = 0;
+  for (std::size_t p = 0; p < fa.ids.size(); ++p) {
+    shown += fa.ids[p] != 0;
+    differ += (fa.ids[p] != 0) != (fb.ids[p] != 0);
+  }
+  return differ / std::max(1.0, shown);
+}
+
+TEST(LodCost, TheSvMeshOfAFarObjectKeepsItsSilhouette) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  const BoundingBox box = bounding_box(bunny);
+  const Vec3 centre = box.center() + Vec3{0.3, 0.2, 1} * (4 * box.diagonal());
+  const DepthImage image = capture_depth(bunny, centre, 256);
+  const std::vector<float> weights = depth_variation_weights(bunny, image);
+  const std::size_t target = bunny.num_faces() / 8;
+  const Mesh sv = build_lod_mesh(bunny, {centre}, weights, target);
+  EXPECT_LE(sv.num_faces(), target);
+  EXPECT_GE(sv.num_faces(), target - 2);
+  // The same face count from plain quadrics on the same front-facing faces, for scale.
+  SimplifyOptions qb;
+  qb.target_faces = target;
+  const Mesh front = build_lod_mesh(bunny, {centre}, weights, bunny.num_faces());
+  const Mesh plain = simplify(front, qb).mesh;
+  const double d_sv = silhouette_difference(bunny, sv, image.view);
+  const double d_qb = silhouette_difference(bunny, plain, image.view);
+  // Measured: 1.6% of the bunny's pixels with the paper's cost, 0.5% with plain quadrics (the
+  // quadrics' placement error is the better guide to a silhouette here; docs/cells.md).
+  std::printf("silhouette difference: paper cost %.4f, plain quadrics %.4f\n", d_sv, d_qb);
+  EXPECT_LT(d_sv, 0.03);
+  EXPECT_LT(d_qb, 0.03);
 }
 
 }  // namespace

@@ -431,5 +431,36 @@ TEST(SimplifyOptions, ErrorsNameTheFieldNotAFlag) {
   }
 }
 
+// A CollapseCost replaces the queue order; weights follow merges by max. A vertex whose
+// weight makes every edge at it expensive outlives the others.
+class WeightedLengthCost final : public CollapseCost {
+ public:
+  double cost(const Edge& e) const override { return norm(e.p1 - e.p0) * (1e-3 + e.w0 + e.w1); }
+};
+
+TEST(Simplify, ACollapseCostOrdersTheQueueAndWeightsFollowMerges) {
+  const Mesh grid = test::grid(16);
+  const VertexIndex protected_vertex = 8 * 17 + 8;  // the centre of the grid
+  const WeightedLengthCost cost;
+  SimplifyOptions options;
+  options.target_faces = grid.num_faces() / 4;
+  options.collapse_cost = &cost;
+  options.vertex_weights.assign(grid.num_vertices(), 0.0f);
+  options.vertex_weights[protected_vertex] = 1000.0f;
+  const Mesh out = simplify(grid, options).mesh;
+  EXPECT_LE(out.num_faces(), options.target_faces);
+  bool kept = false;
+  for (const Vec3& p : out.positions) kept |= p.x == 8 && p.y == 8 && p.z == 0;
+  EXPECT_TRUE(kept);
+  // The order is the cost's, not the quadrics': QB to the same count keeps other vertices.
+  SimplifyOptions qb;
+  qb.target_faces = options.target_faces;
+  const Mesh plain = simplify(grid, qb).mesh;
+  EXPECT_NE(plain.positions, out.positions);
+  // A wrong number of weights is refused.
+  options.vertex_weights.pop_back();
+  EXPECT_THROW(simplify(grid, options), OptionError);
+}
+
 }  // namespace
 }  // namespace visimp

@@ -35,10 +35,9 @@ std::vector<OptionSpec> describe_options(FieldStudyOptions& o) {
 }
 
 void check_options(const FieldStudyOptions& o, std::size_t faces) {
-  FieldOptions field = o.field;
-  for (int ids : o.id_counts) {
-    field.ids = ids;
-    check_options(field, faces);
+  check_options(o.field, faces);  // the bound fields themselves, so errors name their flags
+  for (const int& ids : o.id_counts) {
+    if (ids < 1 || ids > kMaxIds) throw OptionError(&ids, "FieldStudyOptions::id_counts", "must be in [1, 8]");
   }
   if (o.id_counts.empty()) throw OptionError(&o.id_counts, "FieldStudyOptions::id_counts", "must not be empty");
   if (o.frames < 1 || o.frames > 10000)

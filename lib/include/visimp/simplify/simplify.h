@@ -30,6 +30,25 @@ enum class SimplifyMethod {
   vg,  ///< visibility-guided (Zhang & Turk): needs face_visibility
 };
 
+/// A replacement for the queue's cost (the cell-based cost of the walkthrough-LOD paper,
+/// cells/lod_cost.h, for one). Placement, legality and the reported error stay the engine's
+/// (the plain quadric's); only the order of the collapses changes. Vertex indices are the
+/// input's (a collapse merges v1 into v0). Must be safe to call from a copy of the engine:
+/// keep no state that collapses change — per-vertex state the engine should carry goes in
+/// SimplifyOptions::vertex_weights.
+class CollapseCost {
+ public:
+  struct Edge {
+    VertexIndex v0, v1;
+    Vec3 p0, p1, placed;   ///< mesh coordinates: the two ends and where the merged vertex goes
+    Vec3 n0, n1;           ///< unit area-weighted vertex normals of the current mesh (zero: none)
+    float w0 = 0, w1 = 0;  ///< the vertices' weights (SimplifyOptions::vertex_weights, merged by max)
+  };
+  virtual ~CollapseCost() = default;
+  /// The collapse's cost, ≥ 0 (smaller first).
+  virtual double cost(const Edge& edge) const = 0;
+};
+
 struct SimplifyOptions {
   /// Stop once the mesh has at most this many faces (0: use target_ratio, or only max_error).
   std::size_t target_faces = 0;
@@ -64,6 +83,11 @@ struct SimplifyOptions {
   /// moves a visible outline even when the face itself is seen only at grazing angles.
   /// Off by default (eq. 5.10 weighs each face by its own V); see docs/simplify.md.
   bool crease_visibility = false;
+  /// Orders the queue instead of the quadric cost when set (not owned; must outlive the run).
+  const CollapseCost* collapse_cost = nullptr;
+  /// With collapse_cost: empty, or one weight per input vertex, handed to the cost; a merged
+  /// vertex keeps the larger weight of the two.
+  std::vector<float> vertex_weights;
 };
 
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
