@@ -55,7 +55,7 @@ std::vector<std::uint32_t> face_components(const Mesh& mesh, std::size_t* count)
   return out;
 }
 
-void CellPartition::index_faces(const Mesh& mesh) {
+void CellPartition::index_cell_faces() {
   const std::size_t cells = keys.size();
   cell_offsets.assign(cells + 1, 0);
   for (std::uint32_t c : face_cell) ++cell_offsets[c + 1];
@@ -63,7 +63,11 @@ void CellPartition::index_faces(const Mesh& mesh) {
   cell_faces.resize(face_cell.size());
   std::vector<std::uint32_t> next(cell_offsets.begin(), cell_offsets.end() - 1);
   for (std::size_t f = 0; f < face_cell.size(); ++f) cell_faces[next[face_cell[f]]++] = static_cast<std::uint32_t>(f);
-  bounds.assign(cells, BoundingBox{});
+}
+
+void CellPartition::index_faces(const Mesh& mesh) {
+  index_cell_faces();
+  bounds.assign(keys.size(), BoundingBox{});
   for (std::size_t f = 0; f < face_cell.size(); ++f) {
     for (VertexIndex v : mesh.faces[f]) bounds[face_cell[f]].extend(mesh.positions[v]);
   }

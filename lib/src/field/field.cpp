@@ -49,11 +49,7 @@ Vec3 Slab::direction(double u, double v) const {
   return {d[0], d[1], d[2]};
 }
 
-namespace {
-
-double coord(const Vec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<Slab> place_slabs(const BoundingBox& box, int slabs, int layers) {
   std::vector<Slab> out;
@@ -65,11 +61,11 @@ std::vector<Slab> place_slabs(const BoundingBox& box, int slabs, int layers) {
       Slab s;
       s.axis = axis;
       s.side = side;
-      const double lo = coord(box.min, axis), hi = coord(box.max, axis);
+      const double lo = box.min[axis], hi = box.max[axis];
       const double half_depth = 0.5 * (hi - lo);
       s.plane = 0.5 * (lo + hi);
-      s.s_range = {coord(box.min, s.s_axis()) - half_depth - margin, coord(box.max, s.s_axis()) + half_depth + margin};
-      s.t_range = {coord(box.min, s.t_axis()) - half_depth - margin, coord(box.max, s.t_axis()) + half_depth + margin};
+      s.s_range = {box.min[s.s_axis()] - half_depth - margin, box.max[s.s_axis()] + half_depth + margin};
+      s.t_range = {box.min[s.t_axis()] - half_depth - margin, box.max[s.t_axis()] + half_depth + margin};
       const double entry = side > 0 ? hi + margin : lo - margin;
       for (int k = 0; k < layers; ++k) s.starts.push_back(entry - side * (2 * half_depth + margin) * k / layers);
       out.push_back(s);
@@ -107,8 +103,8 @@ bool VisibilityField::inside_solid(const Vec3& p) const {
   if (interior.empty() || box.empty()) return false;
   int c[3];
   for (int a = 0; a < 3; ++a) {
-    const double lo = coord(box.min, a), hi = coord(box.max, a);
-    const double x = coord(p, a);
+    const double lo = box.min[a], hi = box.max[a];
+    const double x = p[a];
     if (!(x >= lo && x <= hi)) return false;
     c[a] = hi > lo ? std::min(kOccupancy - 1, static_cast<int>((x - lo) / (hi - lo) * kOccupancy)) : 0;
   }
@@ -161,10 +157,9 @@ VisibilityField build_field(const Mesh& mesh, const FieldOptions& options, Rende
         const std::size_t layer = (job / per_slab_layer) % static_cast<std::size_t>(options.layers);
         const int iu = static_cast<int>((job / uv) % uv), iv = static_cast<int>(job % uv);
         const Slab& slab = field.slabs[slab_index];
-        const double start_plane = slab.starts[layer] - coord(center, slab.axis);
-        const double plane = slab.plane - coord(center, slab.axis);
-        const double s0 = slab.s_range[0] - coord(center, slab.s_axis()),
-                     t0 = slab.t_range[0] - coord(center, slab.t_axis());
+        const double start_plane = slab.starts[layer] - center[slab.axis];
+        const double plane = slab.plane - center[slab.axis];
+        const double s0 = slab.s_range[0] - center[slab.s_axis()], t0 = slab.t_range[0] - center[slab.t_axis()];
         const double ds = (slab.s_range[1] - slab.s_range[0]) / st, dt = (slab.t_range[1] - slab.t_range[0]) / st;
         auto& org = origins[w];
         auto& dir = directions[w];

@@ -193,19 +193,11 @@ VisibilityField parse_field_file(const std::string& bytes, const std::string& pa
   }
   f.cells.face_cell.resize(f.faces);
   decode_runs(r, f.cells.face_cell, 0, 1, static_cast<std::uint32_t>(cells - 1), path, "face cell");
-  // Derived: faces per cell (bounds came from the file).
-  {
-    auto& off = f.cells.cell_offsets;
-    off.assign(cells + 1, 0);
-    for (std::uint32_t c : f.cells.face_cell) ++off[c + 1];
-    for (std::size_t c = 0; c < cells; ++c) {
-      if (off[c + 1] == 0) throw IoError(path, "holds cell " + std::to_string(c) + " without faces");
-      off[c + 1] += off[c];
-    }
-    f.cells.cell_faces.resize(f.faces);
-    std::vector<std::uint32_t> next(off.begin(), off.end() - 1);
-    for (std::size_t i = 0; i < f.faces; ++i)
-      f.cells.cell_faces[next[f.cells.face_cell[i]]++] = static_cast<std::uint32_t>(i);
+  // Derived: faces per cell (bounds came from the file); every cell must have some.
+  f.cells.index_cell_faces();
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (f.cells.cell_offsets[c + 1] == f.cells.cell_offsets[c])
+      throw IoError(path, "holds cell " + std::to_string(c) + " without faces");
   }
   // Slabs are a function of the box and the options: a file must hold exactly those (so a
   // corrupt one cannot leave a direction without its slab or give a degenerate rectangle).

@@ -75,7 +75,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-double coord(const Vec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
 Vec3 unit_axis(int axis) { return axis == 0 ? Vec3{1, 0, 0} : axis == 1 ? Vec3{0, 1, 0} : Vec3{0, 0, 1}; }
 
 struct Path {
@@ -89,7 +88,7 @@ struct Path {
 std::vector<Path> camera_paths(const BoundingBox& box, std::size_t frames) {
   const Vec3 c = box.center(), h = (box.max - box.min) * 0.5;
   int axes[3] = {0, 1, 2};
-  std::sort(axes, axes + 3, [&](int a, int b) { return coord(h, a) > coord(h, b); });
+  std::sort(axes, axes + 3, [&](int a, int b) { return h[a] > h[b]; });
   const Vec3 eL = unit_axis(axes[0]), eM = unit_axis(axes[1]), eS = unit_axis(axes[2]);
   const double radius = 1.6 * norm(h);
   Path around{"around", {}}, through{"through", {}}, front{"front", {}};
@@ -100,8 +99,8 @@ std::vector<Path> camera_paths(const BoundingBox& box, std::size_t frames) {
                      eS * (radius * std::sin(elevation));
     around.views.push_back({eye, c});
     const double f = frames > 1 ? static_cast<double>(k) / static_cast<double>(frames - 1) : 0;
-    const double along = -(coord(h, axes[0]) + 0.5 * norm(h)) + f * (1.3 * coord(h, axes[0]) + 0.5 * norm(h));
-    const Vec3 p = c + eL * along + eM * (0.25 * coord(h, axes[1])) + eS * (0.1 * coord(h, axes[2]));
+    const double along = -(h[axes[0]] + 0.5 * norm(h)) + f * (1.3 * h[axes[0]] + 0.5 * norm(h));
+    const Vec3 p = c + eL * along + eM * (0.25 * h[axes[1]]) + eS * (0.1 * h[axes[2]]);
     through.views.push_back({p, p + eL});
     // Within reach of the paper's single +z slab: 2.5 half diagonals out, ±15° about +z, so
     // every ray to the box is within 45° of −z.

@@ -47,8 +47,6 @@ std::vector<OptionSpec> describe_options(ResampleOptions& o) {
 
 namespace {
 
-double coord(const Vec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
-
 // One coarser level: each coarse sample keeps the ids most weighted among its (up to) 16
 // children, a child's rank r counting ids − r.
 std::vector<std::uint32_t> coarsen(const std::vector<std::uint32_t>& fine, int uv, int st, int ids, int cuv, int cst) {
@@ -146,7 +144,7 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
   for (std::size_t i = 0; i < field_.slabs.size(); ++i) {
     const Slab& slab = field_.slabs[i];
     SlabQuery& q = query[i];
-    const double x = coord(view.eye, slab.axis);
+    const double x = view.eye[slab.axis];
     // An eye outside the box reads layer 0: the box lies wholly ahead of it on every line
     // into the box, so nothing is between the box's side and the eye.
     const bool outside =
@@ -162,7 +160,7 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
         break;
       }
     }
-    const double box_far = slab.side > 0 ? coord(field_.box.min, slab.axis) : coord(field_.box.max, slab.axis);
+    const double box_far = slab.side > 0 ? field_.box.min[slab.axis] : field_.box.max[slab.axis];
     const double plane_ahead = q.layer >= 0 ? slab.starts[static_cast<std::size_t>(q.layer)] : box_far;
     q.gap = !outside && q.layer != 0 && slab.side * (x - box_far) > 0;
     q.gap_lo = std::min(x, plane_ahead);
@@ -203,9 +201,9 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     SlabFrame& f = frames[i];
     f.s_axis = slab.s_axis();
     f.t_axis = slab.t_axis();
-    f.eye_a = coord(view.eye, slab.axis);
-    f.eye_s = coord(view.eye, f.s_axis);
-    f.eye_t = coord(view.eye, f.t_axis);
+    f.eye_a = view.eye[slab.axis];
+    f.eye_s = view.eye[f.s_axis];
+    f.eye_t = view.eye[f.t_axis];
     f.plane = slab.plane;
     f.s0 = slab.s_range[0];
     f.t0 = slab.t_range[0];
@@ -288,7 +286,7 @@ void FieldResampler::resample(const PerspectiveView& view, const ResampleOptions
     for (std::size_t c = 0; c < cells; ++c) {
       if (out.marked[c]) continue;
       const BoundingBox& b = field_.cells.bounds[c];
-      if (coord(b.max, axis) < q.gap_lo || coord(b.min, axis) > q.gap_hi) continue;
+      if (b.max[axis] < q.gap_lo || b.min[axis] > q.gap_hi) continue;
       bool in_frustum = true;
       for (const Vec3& n : planes) {
         // The box corner farthest along n, relative to the eye.

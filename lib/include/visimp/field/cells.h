@@ -57,7 +57,9 @@ struct CellPartition {
   std::vector<std::uint32_t> cell_offsets, cell_faces;
 
   std::size_t num_cells() const { return keys.size(); }
-  /// Rebuilds keys-independent derived data (cell_offsets, cell_faces, bounds) from face_cell.
+  /// Rebuilds cell_offsets and cell_faces from face_cell (what a reader derives).
+  void index_cell_faces();
+  /// The same, and the cells' bounding boxes from the mesh.
   void index_faces(const Mesh& mesh);
 };
 
