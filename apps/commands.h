@@ -22,5 +22,6 @@ int run_compare(const Args& args);
 int run_patches(const Args& args);
 int run_field(const Args& args);
 int run_scene(const Args& args);
+int run_cells(const Args& args);
 
 }  // namespace visimp::app

@@ -36,6 +36,7 @@ constexpr const char* kUsage =
     "  patches build|query|study  patch bitfields and view reconstruction from the same sampling\n"
     "  field build|query|study    the visibility field: cell ids on two-plane slabs, resampled per view\n"
     "  scene park|info            walkthrough scenes: meshes placed by transforms (statuary parks)\n"
+    "  cells build|walk           walkthrough LOD per hexagonal cell (SVMesh/MVMesh), PSNR along a path\n"
     "\n"
     "'visimp COMMAND --help' describes each command; 'visimp --version' prints the version.\n"
     "exit codes: 0 success, 1 bad input or I/O failure, 2 bad usage, 3 internal error\n";
@@ -73,6 +74,7 @@ int main(int argc, char** argv) {
     if (command == "patches") return app::run_patches(args);
     if (command == "field") return app::run_field(args);
     if (command == "scene") return app::run_scene(args);
+    if (command == "cells") return app::run_cells(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
   } catch (const OptionError& e) {
     std::cerr << "visimp " << command << ": error: " << app::describe_option_error(e) << "\n";

@@ -5,6 +5,7 @@
 #include "visimp/simplify/simplify.h"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -63,6 +64,11 @@ constexpr std::uint8_t kRejected = 8;  // a collapse at this vertex was refused;
 
 // A candidate in the lazy queue (key: radix_key of its cost). It is stale when either
 // endpoint changed after `time`; stale entries are skipped when popped.
+// A CollapseCost refuses a collapse with an infinite cost (the walkthrough paper's projected
+// length tolerance): the key sorts after every finite cost, and such entries are skipped like
+// collapses over max_error until a neighbouring collapse re-costs the edge.
+constexpr std::uint32_t kRefusedKey = 0x7f800000u;  // the bits of +infinity
+
 struct HeapEntry {
   std::uint32_t key;
   VertexIndex v0, v1;
@@ -150,7 +156,7 @@ class CollapseEngine {
       first = nullptr;
       CollapseProfile profile;
       if (!prepare(entry, profile)) continue;
-      if (profile.error > max_error) {
+      if (profile.error > max_error || (custom_cost_ != nullptr && entry.key == kRefusedKey)) {
         error_limited_ = true;
         continue;
       }
@@ -431,6 +437,7 @@ class CollapseEngine {
       e.w1 = vertex_weights_[v1];
     }
     const double cost = custom_cost_->cost(e);
+    if (cost == std::numeric_limits<double>::infinity()) return kRefusedKey;  // the cost's own stop rule
     return detail::radix_key(static_cast<float>(cost > 0 ? cost : 0.0));  // NaN and negatives first, never lost
   }
 

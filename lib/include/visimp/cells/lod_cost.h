@@ -12,6 +12,8 @@
 // or hidden) still collapse shortest and flattest first instead of in arbitrary order.
 #pragma once
 
+#include <array>
+#include <limits>
 #include <vector>
 
 #include "visimp/core/mesh.h"
@@ -22,20 +24,39 @@ namespace visimp {
 class ProjectedLengthCost final : public CollapseCost {
  public:
   /// `eyes`: the cell centre (SVMesh), or the centre and corners (MVMesh); not empty.
-  explicit ProjectedLengthCost(std::vector<Vec3> eyes);
+  /// `max_length`: the paper's stop rule Tl as an angle (radians): an edge whose projected
+  /// length exceeds it is not collapsed (infinite cost), so collapsing ends once every edge
+  /// left is longer. Infinity: no such limit (a face-count target stops the run).
+  explicit ProjectedLengthCost(std::vector<Vec3> eyes,
+                               double max_length = std::numeric_limits<double>::infinity());
+  /// For an MVMesh: l′ over the whole cell, not only its centre and corners. `hexagon` is the
+  /// cell's six corners (a horizontal hexagon at eye height); an edge's length is also taken
+  /// as |edge| / (distance from its midpoint to the hexagon), the most it can subtend from any
+  /// eye in the cell — an object just outside a cell's side is nearer to the side's middle than
+  /// to any corner.
+  void set_region(const std::array<Vec3, 6>& hexagon);
   double cost(const Edge& edge) const override;
   /// The edge's largest angular length over the eyes, in radians (small-angle).
   double projected_length(const Vec3& a, const Vec3& b) const;
 
  private:
   std::vector<Vec3> eyes_;
+  double max_length_;
+  bool has_region_ = false;
+  std::array<Vec3, 6> region_{};
 };
 
 /// The faces of `object` front-facing to at least one of `eyes` (to the centre alone: an
 /// SVMesh's; to the centre and corners: an MVMesh's), simplified to `target_faces` with the
 /// paper's cost and `weights` (one per vertex of `object`, or empty for all 1). The result
 /// keeps the input's vertex positions where the engine does.
+/// `max_length` is the Tl stop rule (radians, see ProjectedLengthCost); with it, a
+/// `target_faces` of 1 lets Tl alone stop the run.
+/// `region`, when given, is set on the cost (an MVMesh's cell).
 Mesh build_lod_mesh(const Mesh& object, const std::vector<Vec3>& eyes, const std::vector<float>& weights,
-                    std::size_t target_faces);
+                    std::size_t target_faces, double max_length = std::numeric_limits<double>::infinity(),
+                    const std::array<Vec3, 6>* region = nullptr);
+/// Distance from `p` to the horizontal hexagon with these corners (0 on it).
+double distance_to_hexagon(const std::array<Vec3, 6>& hexagon, const Vec3& p);
 
 }  // namespace visimp

@@ -45,7 +45,9 @@ class CollapseCost {
     float w0 = 0, w1 = 0;  ///< the vertices' weights (SimplifyOptions::vertex_weights, merged by max)
   };
   virtual ~CollapseCost() = default;
-  /// The collapse's cost, ≥ 0 (smaller first).
+  /// The collapse's cost, ≥ 0 (smaller first). +infinity refuses the collapse for now (a
+  /// stop rule of the cost's own: the run ends with StopReason::error_limit when only refused
+  /// collapses are left); the edge is asked again after a collapse next to it.
   virtual double cost(const Edge& edge) const = 0;
 };
 
