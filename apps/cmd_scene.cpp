@@ -39,7 +39,7 @@ int run_park(const Args& args) {
   std::string out, area, meshes_text;
   bool json_out = false;
   ArgParser parser(
-      "visimp scene park -o SCENE.json [--objects N] [--area W,D] [--object-size S] [--seed S] "
+      "visimp scene park -o SCENE.json [--objects N | --faces F] [--area W,D] [--object-size S] [--seed S] "
       "[--meshes F,F:z,..]",
       "Places N meshes at random on distinct spots of a jittered grid over W x D of the x-y plane,\n"
       "each scaled to a bounding diagonal of S x U(0.8, 1.2), stood upright on z = 0 and turned about\n"
@@ -49,6 +49,7 @@ int run_park(const Args& args) {
       0, 0);
   parser.add(option_spec("-o", "SCENE.json", out, "the scene file"));
   parser.add(option_spec("--objects", "N", options.objects, "objects to place"));
+  parser.add(option_spec("--faces", "F", options.faces, "instead of --objects: place objects until F faces"));
   parser.add(option_spec("--area", "W,D", area, "extent of the park along x and y (default 200,200)"));
   parser.add(option_spec("--object-size", "S", options.object_size, "typical bounding diagonal of an object"));
   parser.add(option_spec("--seed", "S", options.seed, "seed of the placement"));
@@ -63,6 +64,7 @@ int run_park(const Args& args) {
     options.depth = parse_double(area.substr(comma + 1), "--area");
   }
   if (options.objects == 0 || options.objects > 1000000) throw UsageError("--objects must be in [1, 1000000]");
+  if (options.faces > 4000000000u) throw UsageError("--faces must be at most 4e9");
   if (!(options.width > 0) || !(options.depth > 0) || !std::isfinite(options.width * options.depth))
     throw UsageError("--area must be two positive finite sizes");
   if (!(options.object_size > 0) || !std::isfinite(options.object_size))

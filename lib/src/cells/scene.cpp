@@ -160,8 +160,8 @@ void write_scene(const Scene& scene, const std::string& path) {
 
 Scene make_park(const std::vector<std::string>& meshes, const std::vector<bool>& z_up, const ParkOptions& o) {
   if (meshes.empty()) throw UsageError("a park needs at least one mesh");
-  if (o.objects == 0 || !(o.width > 0) || !(o.depth > 0) || !(o.object_size > 0))
-    throw UsageError("a park needs objects > 0 and a positive area and object size");
+  if ((o.objects == 0 && o.faces == 0) || !(o.width > 0) || !(o.depth > 0) || !(o.object_size > 0))
+    throw UsageError("a park needs objects > 0 (or a face total) and a positive area and object size");
   Scene scene;
   for (const std::string& m : meshes) {
     scene.mesh_paths.push_back(std::filesystem::absolute(m).string());
@@ -169,16 +169,30 @@ Scene make_park(const std::vector<std::string>& meshes, const std::vector<bool>&
   }
   SplitMix64 random(o.seed);
   auto below = [&](std::size_t n) { return static_cast<std::size_t>(random.next() % n); };
+  // With a face total, the meshes are drawn first (their own stream) until it is reached.
+  std::vector<std::size_t> drawn;
+  std::size_t objects = o.objects;
+  if (o.faces > 0) {
+    SplitMix64 pick(o.seed ^ 0x9e3779b97f4a7c15ull);
+    std::size_t total = 0;
+    while (total < o.faces) {
+      if (drawn.size() >= 1000000) throw UsageError("a park of that many faces needs over a million objects");
+      drawn.push_back(static_cast<std::size_t>(pick.next() % meshes.size()));
+      total += scene.meshes[drawn.back()].num_faces();
+      if (scene.meshes[drawn.back()].num_faces() == 0 && drawn.size() > 1000) break;
+    }
+    objects = drawn.size();
+  }
   // A jittered grid with at least `objects` spots, filled in a random order.
   const std::size_t columns =
-      static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(o.objects) * o.width / o.depth)));
-  const std::size_t rows = (o.objects + columns - 1) / columns;
+      static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(objects) * o.width / o.depth)));
+  const std::size_t rows = (objects + columns - 1) / columns;
   std::vector<std::size_t> spots(columns * rows);
   for (std::size_t k = 0; k < spots.size(); ++k) spots[k] = k;
   for (std::size_t k = spots.size(); k > 1; --k) std::swap(spots[k - 1], spots[below(k)]);
   const double cell_w = o.width / static_cast<double>(columns), cell_d = o.depth / static_cast<double>(rows);
-  for (std::size_t i = 0; i < o.objects; ++i) {
-    const std::size_t m = below(meshes.size());
+  for (std::size_t i = 0; i < objects; ++i) {
+    const std::size_t m = drawn.empty() ? below(meshes.size()) : drawn[i];
     const BoundingBox box = bounding_box(scene.meshes[m]);
     const double scale = o.object_size * (0.8 + 0.4 * random.uniform()) / std::max(box.diagonal(), 1e-30);
     // Upright: Y-up meshes turn +90° about x (y → z); then the base goes to z = 0.

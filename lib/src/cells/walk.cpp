@@ -86,31 +86,52 @@ void RenderSet::add(const Mesh& mesh, const std::vector<std::uint32_t>* subset, 
   g.first_face = static_cast<std::uint32_t>(faces.size());
   // Only the vertices the faces use, in first-use order.
   std::vector<VertexIndex> remap(mesh.num_vertices(), ~VertexIndex{0});
-  // Vertex normals over all of the mesh's faces, also those left out: a culled subset of an
-  // object shades as the whole object does.
-  std::vector<Vec3> normals(mesh.num_vertices(), Vec3{0, 0, 0});
-  for (const Face& f : mesh.faces) {
-    const Vec3 n = face_normal_unnormalized(mesh, f);
-    for (VertexIndex v : f) normals[v] = normals[v] + n;
+  // Corner normals over all of the mesh's faces, also those left out (a culled subset of an
+  // object shades as the whole object does), smoothed only across edges bending less than
+  // kCreaseDegrees: a CAD part's sharp edges stay sharp however large its faces become.
+  constexpr double kCreaseDegrees = 40;
+  const double crease_cos = std::cos(kCreaseDegrees * kDegree);
+  std::vector<Vec3> area(mesh.num_faces()), unit(mesh.num_faces());
+  std::vector<std::uint32_t> first(mesh.num_vertices() + 1, 0), incident;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    area[f] = face_normal_unnormalized(mesh, mesh.faces[f]);
+    const double length = norm(area[f]);
+    unit[f] = length > 0 ? area[f] / length : Vec3{0, 0, 0};
+    for (VertexIndex v : mesh.faces[f]) ++first[v + 1];
+  }
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) first[v + 1] += first[v];
+  incident.resize(first.back());
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f < mesh.num_faces(); ++f)
+      for (VertexIndex v : mesh.faces[f]) incident[fill[v]++] = static_cast<std::uint32_t>(f);
   }
   BoundingBox box;
   const std::size_t count = subset ? subset->size() : mesh.num_faces();
   for (std::size_t k = 0; k < count; ++k) {
-    const Face& f = mesh.faces[subset ? (*subset)[k] : k];
+    const std::size_t fi = subset ? (*subset)[k] : k;
+    const Face& f = mesh.faces[fi];
     Face g_face;
+    std::array<std::array<float, 3>, 3> corners;
     for (int c = 0; c < 3; ++c) {
-      VertexIndex& m = remap[f[static_cast<std::size_t>(c)]];
+      const VertexIndex v = f[static_cast<std::size_t>(c)];
+      VertexIndex& m = remap[v];
       if (m == ~VertexIndex{0}) {
         m = static_cast<VertexIndex>(positions.size());
-        positions.push_back(to_float(mesh.positions[f[static_cast<std::size_t>(c)]]));
-        const Vec3& n = normals[f[static_cast<std::size_t>(c)]];
-        const double length = norm(n);
-        vertex_normals.push_back(length > 0 ? to_float(n / length) : std::array<float, 3>{0, 0, 0});
-        box.extend(mesh.positions[f[static_cast<std::size_t>(c)]]);
+        positions.push_back(to_float(mesh.positions[v]));
+        box.extend(mesh.positions[v]);
       }
       g_face[static_cast<std::size_t>(c)] = m;
+      Vec3 sum{0, 0, 0};
+      for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
+        const std::uint32_t h = incident[i];
+        if (dot(unit[h], unit[fi]) >= crease_cos) sum = sum + area[h];
+      }
+      const double length = norm(sum);
+      corners[static_cast<std::size_t>(c)] = to_float(length > 0 ? sum / length : unit[fi]);
     }
     faces.push_back(g_face);
+    corner_normals.push_back(corners);
   }
   g.faces = static_cast<std::uint32_t>(faces.size()) - g.first_face;
   g.centre = box.center();
@@ -210,9 +231,9 @@ std::size_t render_frame(const RenderSet& set, const PerspectiveView& view, bool
           float v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
           u = std::clamp(u, 0.0f, 1.0f);
           v = std::clamp(v, 0.0f, 1.0f - u);
-          const auto& na = set.vertex_normals[set.faces[f][0]];
-          const auto& nb = set.vertex_normals[set.faces[f][1]];
-          const auto& nc = set.vertex_normals[set.faces[f][2]];
+          const auto& na = set.corner_normals[f][0];
+          const auto& nb = set.corner_normals[f][1];
+          const auto& nc = set.corner_normals[f][2];
           std::array<float, 3> m;
           for (int k = 0; k < 3; ++k)
             m[static_cast<std::size_t>(k)] = (1 - u - v) * na[static_cast<std::size_t>(k)] +

@@ -57,6 +57,8 @@ void write_scene(const Scene& scene, const std::string& path);
 /// turned about z at random) on distinct spots of a jittered grid over `width` × `depth`.
 struct ParkOptions {
   std::size_t objects = 64;
+  /// When > 0, overrides `objects`: meshes are drawn until their faces reach this total.
+  std::size_t faces = 0;
   double width = 200, depth = 200;
   double object_size = 10;
   std::uint64_t seed = 1;

@@ -41,7 +41,7 @@ std::vector<CameraPose> auto_camera_path(const Scene& scene, double eye_height, 
 
 enum class Shading { flat, smooth };
 
-/// Meshes packed for drawing: float positions, faces, per-face and per-vertex normals, a grey
+/// Meshes packed for drawing: float positions, faces, per-face and per-corner normals, a grey
 /// albedo per face, and groups (an object, or an LOD mesh) with bounding spheres for culling.
 struct RenderSet {
   struct Group {
@@ -51,11 +51,12 @@ struct RenderSet {
   };
   std::vector<std::array<float, 3>> positions;
   std::vector<Face> faces;
-  std::vector<std::array<float, 3>> face_normals, vertex_normals;
+  std::vector<std::array<float, 3>> face_normals;
+  std::vector<std::array<std::array<float, 3>, 3>> corner_normals;  ///< per face, smoothed within a crease angle
   std::vector<float> face_albedo;
   std::vector<Group> groups;
   /// Adds `faces` of `mesh` (all when null) as one group, in the colour of scene object `object`;
-  /// vertex normals are the mesh's own (area-weighted over all its faces).
+  /// corner normals are the mesh's own (area-weighted over all its faces, within 40° of the face).
   void add(const Mesh& mesh, const std::vector<std::uint32_t>* faces, std::uint32_t object);
   /// Call once after the last add(): face normals.
   void finish();
