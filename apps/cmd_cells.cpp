@@ -85,6 +85,8 @@ int run_build(const Args& args) {
   parser.add(option_spec("--max-capture", "R", options.max_capture_resolution, "cap of depth images and hole tests"));
   parser.add(option_spec("--base-levels", "N", options.base_levels,
                          "quadric versions per mesh to start far objects from (0: the full mesh)"));
+  parser.add(negated_switch_spec("--no-textures", options.textures, "no projective textures (geometry only)"));
+  parser.add(option_spec("--max-texture", "R", options.max_texture_resolution, "largest texture, pixels across"));
   parser.add(option_spec("--path", "PATH|auto", path_text, "build only the cells along this walk (and neighbours)"));
   parser.add(option_spec("--frames", "N", frames, "poses of --path auto"));
   parser.add(option_spec("--threads", "N", threads, "worker threads (0: all cores)"));
@@ -219,7 +221,7 @@ RgbImage to_rgb(const FrameImage& y) {
 
 int run_walk(const Args& args) {
   WalkOptions options;
-  std::string out, path_text, shading = "smooth", prefetch = "on", cache = "warm";
+  std::string out, path_text, shading = "smooth", prefetch = "on", cache = "warm", textures = "on";
   std::size_t frames = 400, images = 2;
   bool json_out = false;
   ArgParser parser(
@@ -237,6 +239,7 @@ int run_walk(const Args& args) {
   parser.add(option_spec("--resolution", "R", options.resolution, "frame size (default: the cells' own)"));
   parser.add(option_spec("--fov", "DEG", options.fov_degrees, "field of view (default: the cells' own)"));
   parser.add(option_spec("--shading", "smooth|flat", shading, "Lambert with interpolated or face normals"));
+  parser.add(option_spec("--textures", "on|off", textures, "LOD meshes take their grey from their projective textures"));
   parser.add(option_spec("--prefetch", "on|off", prefetch, "read the neighbouring cells ahead on a low-priority thread"));
   parser.add(option_spec("--cache", "cold|warm", cache, "evict the cell files from the page cache first, or read them"));
   parser.add(option_spec("--reference-every", "K", options.reference_every,
@@ -247,6 +250,7 @@ int run_walk(const Args& args) {
   if (path_text.empty()) throw UsageError("--path PATH|auto is required");
   if (shading != "smooth" && shading != "flat") throw UsageError("--shading must be smooth or flat");
   if (prefetch != "on" && prefetch != "off") throw UsageError("--prefetch must be on or off");
+  if (textures != "on" && textures != "off") throw UsageError("--textures must be on or off");
   if (cache != "cold" && cache != "warm") throw UsageError("--cache must be cold or warm");
   if (frames == 0) throw UsageError("--frames must be >= 1");
   const std::string& in = parser.positionals()[0];
@@ -258,6 +262,7 @@ int run_walk(const Args& args) {
   if (!(options.fov_degrees > 1 && options.fov_degrees < 170)) throw UsageError("--fov must be in (1, 170) degrees");
   options.shading = shading == "flat" ? Shading::flat : Shading::smooth;
   options.prefetch = prefetch == "on";
+  options.textures = textures == "on";
   const Scene scene = read_scene(in);
   if (hash_scene(scene) != manifest.scene_hash)
     throw IoError(dir + "/cells.json", "was built for another scene than " + in + " (content hash differs)");
@@ -329,6 +334,7 @@ int run_walk(const Args& args) {
     json.field("frames", walked.size()).field("reference_frames", references).field("crossings", crossings);
     json.field("resolution", static_cast<std::int64_t>(options.resolution)).field("shading", shading);
     json.field("prefetch", prefetch).field("cache", cache);
+    json.field("textures", textures == "on" && manifest.options.textures);
     json.key("faces")
         .begin_object()
         .field("a", sum_a / r)

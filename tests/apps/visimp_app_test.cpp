@@ -51,7 +51,10 @@ TEST_F(App, HelpEverywhereExitsZero) {
                           "field study --help",
                           "scene --help",
                           "scene park --help",
-                          "scene info --help"}) {
+                          "scene info --help",
+                          "cells --help",
+                          "cells build --help",
+                          "cells walk --help"}) {
     const AppRun r = run(cmd, dir);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("usage: visimp"), std::string::npos) << cmd;
@@ -535,6 +538,55 @@ TEST_F(App, SceneParkWritesAScene) {
   const AppRun broken = run("scene info " + dir + "/broken.json", dir);
   EXPECT_EQ(broken.code, 1);
   EXPECT_NE(broken.err.find("broken.json"), std::string::npos) << broken.err;
+}
+
+TEST_F(App, CellsBuildAndWalkAPark) {
+  const std::string scene = dir + "/park.json", cells = dir + "/cells", walked = dir + "/walk";
+  ASSERT_EQ(run("scene park -o " + scene + " --objects 6 --area 60,60 --object-size 8 --seed 2 --meshes " + bunny +
+                    "," + test::bundled_mesh("teapot.ply"),
+                dir)
+                .code,
+            0);
+  const AppRun built = run("cells build " + scene + " -o " + cells +
+                               " --cell-size 10 --eye-height 3 --resolution 128 --max-capture 128 --path auto "
+                               "--frames 12 --json",
+                           dir);
+  ASSERT_EQ(built.code, 0) << built.err;
+  EXPECT_GT(json_count(built.out, "cells"), 6u);
+  EXPECT_GT(json_count(built.out, "svmesh") + json_count(built.out, "mvmesh"), 0u);
+  EXPECT_TRUE(std::filesystem::exists(cells + "/cells.json"));
+  const AppRun walk = run("cells walk " + scene + " " + cells + " --path auto --frames 12 -o " + walked + " --json", dir);
+  ASSERT_EQ(walk.code, 0) << walk.err;
+  EXPECT_EQ(json_count(walk.out, "frames"), 12u);
+  EXPECT_NE(walk.out.find("\"psnr\""), std::string::npos);
+  EXPECT_EQ(std::count(test::slurp(walked + "/frames.csv").begin(), test::slurp(walked + "/frames.csv").end(), '\n'),
+            13);
+  EXPECT_TRUE(std::filesystem::exists(walked + "/walk.json"));
+  // Bad usage names the flag; a path leaving the built cells, or another scene, is refused.
+  for (const auto& [args, flag] : std::vector<std::pair<std::string, std::string>>{
+           {"cells build " + scene, "-o"},
+           {"cells build " + scene + " -o " + dir + "/c2 --tl 0", "--tl"},
+           {"cells build " + scene + " -o " + dir + "/c2 --cell-size -1", "size"},
+           {"cells walk " + scene + " " + cells, "--path"},
+           {"cells walk " + scene + " " + cells + " --path auto --prefetch maybe", "--prefetch"},
+           {"cells frobnicate", "frobnicate"}}) {
+    const AppRun r = run(args, dir);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/c2"));
+  std::ofstream(dir + "/away.txt") << "5000 5000 3 1 0 0\n";
+  const AppRun away = run("cells walk " + scene + " " + cells + " --path " + dir + "/away.txt", dir);
+  EXPECT_EQ(away.code, 1);
+  EXPECT_NE(away.err.find("not built"), std::string::npos) << away.err;
+  ASSERT_EQ(run("scene park -o " + dir + "/other.json --objects 6 --area 60,60 --object-size 8 --seed 3 --meshes " +
+                    bunny,
+                dir)
+                .code,
+            0);
+  const AppRun other = run("cells walk " + dir + "/other.json " + cells + " --path auto", dir);
+  EXPECT_EQ(other.code, 1);
+  EXPECT_NE(other.err.find("another scene"), std::string::npos) << other.err;
 }
 
 }  // namespace

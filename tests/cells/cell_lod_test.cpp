@@ -143,7 +143,17 @@ TEST(CellStore, CellFilesRoundTripAndRefuseDamage) {
     for (std::size_t v = 0; v < a.mesh.num_vertices(); ++v)
       EXPECT_LT(norm(a.mesh.positions[v] - b.mesh.positions[v]), 1e-5 * 300);
     EXPECT_EQ(a.self_occluding_error, b.self_occluding_error);
+    ASSERT_EQ(a.textures.size(), b.textures.size());
+    for (std::size_t t = 0; t < a.textures.size(); ++t) {
+      EXPECT_EQ(a.textures[t].y, b.textures[t].y);
+      EXPECT_EQ(a.textures[t].depth, b.textures[t].depth);
+      EXPECT_EQ(a.textures[t].width, b.textures[t].width);
+      EXPECT_EQ(a.textures[t].view.eye.x, b.textures[t].view.eye.x);
+    }
   }
+  // One texture per SVMesh (the centre), seven per MVMesh (centre and corners).
+  EXPECT_EQ(lods.entries[1].textures.size(), 7u);
+  EXPECT_EQ(lods.entries[2].textures.size(), 1u);
   EXPECT_EQ(cell_file_name({-3, 12}), "cell_m3_12.vcell");
 
   const std::string bytes = read_file_bytes(path);
@@ -218,8 +228,8 @@ TEST(Walk, PsnrAndFrustumCullingAreExact) {
     const double t = k * M_PI / 12;
     const CameraPose pose{{-2, 0, 1}, {std::cos(t), std::sin(t), 0.1}};
     const PerspectiveView view = frame_view(pose, 60, 96, 0.01);
-    const std::size_t n_culled = render_frame(set, view, true, Shading::smooth, raster, scratch, culled);
-    const std::size_t n_all = render_frame(set, view, false, Shading::smooth, raster, scratch, all);
+    const std::size_t n_culled = render_frame(set, view, true, Shading::smooth, false, raster, scratch, culled);
+    const std::size_t n_all = render_frame(set, view, false, Shading::smooth, false, raster, scratch, all);
     EXPECT_EQ(culled.y, all.y) << k;
     EXPECT_LE(n_culled, n_all);
     if (n_culled < n_all) ++fewer;
@@ -275,6 +285,50 @@ TEST(Walk, PrefetchingNeverChangesWhatIsDrawn) {
   // A path leaving the built cells is refused, naming the cell.
   const std::vector<CameraPose> away{{{500, 500, 1}, {1, 0, 0}}};
   EXPECT_THROW(walk(scene, dir.path(), manifest, away, options), IoError);
+}
+
+TEST(Textures, ATextureGivesBackWhatItSawAndOnlyThat) {
+  const Scene scene = three_spheres();
+  RenderSet sphere;
+  sphere.add(scene.object_mesh(1), nullptr, 1);  // radius 2 at (9, 0, 1)
+  sphere.finish();
+  const Vec3 eye{0, 0, 1}, centre{9, 0, 1};
+  const ProjectiveTexture tex = capture_texture(sphere, eye, centre, 2, 128);
+  ASSERT_GT(tex.width, 64);
+  EXPECT_LE(tex.width, 128);
+  // The near side's centre is seen; the far side's is not (the sphere hides it).
+  float grey = -1;
+  EXPECT_TRUE(tex.sample(Vec3{7, 0, 1}, 0.02, &grey));
+  EXPECT_GT(grey, 0);
+  EXPECT_FALSE(tex.sample(Vec3{11, 0, 1}, 0.02, &grey));
+  EXPECT_FALSE(tex.sample(Vec3{9, 5, 1}, 0.02, &grey));  // outside the crop
+  // Drawn textured from near where it was captured, a much coarser flat-shaded sphere looks
+  // like the fine one inside its outline (the outline is the geometry's: textures cannot help).
+  RenderSet fine = sphere, coarse, textured;
+  Mesh low = test::icosphere(1, 2.0);
+  for (Vec3& p : low.positions) p = p + centre;
+  coarse.add(low, nullptr, 1);
+  coarse.finish();
+  textured = coarse;
+  textured.groups[0].textures.push_back(tex);
+  PerspectiveRasterizer raster;
+  PerspectiveFrame scratch;
+  FrameImage reference, plain, mapped;
+  const PerspectiveView view = PerspectiveView::looking_at(eye + Vec3{0, 0.3, 0}, centre, 40, 128, 0.01);
+  render_frame(fine, view, false, Shading::smooth, false, raster, scratch, reference);
+  render_frame(coarse, view, false, Shading::flat, false, raster, scratch, plain);
+  render_frame(textured, view, false, Shading::flat, true, raster, scratch, mapped);
+  double plain_error = 0, mapped_error = 0;
+  std::size_t inside = 0;
+  for (std::size_t p = 0; p < reference.y.size(); ++p) {
+    if (reference.y[p] == kBackgroundGrey || plain.y[p] == kBackgroundGrey) continue;
+    plain_error += std::abs(reference.y[p] - plain.y[p]);
+    mapped_error += std::abs(reference.y[p] - mapped.y[p]);
+    ++inside;
+  }
+  ASSERT_GT(inside, 2000u);
+  EXPECT_LT(mapped_error / static_cast<double>(inside), 3.0);  // grey levels of 255
+  EXPECT_LT(mapped_error, 0.25 * plain_error);
 }
 
 TEST(Walk, CameraPathsAreReadStrictly) {

@@ -40,6 +40,8 @@ void check_options(const CellBuildOptions& o) {
   if (o.max_capture_resolution < 32 || o.max_capture_resolution > 4096)
     throw UsageError("--max-capture must be in [32, 4096]");
   if (o.base_levels < 0 || o.base_levels > 12) throw UsageError("--base-levels must be in [0, 12]");
+  if (o.max_texture_resolution < 16 || o.max_texture_resolution > 4096)
+    throw UsageError("--max-texture must be in [16, 4096]");
 }
 
 const char* to_string(LodKind kind) {
@@ -103,6 +105,13 @@ CellLodBuilder::CellLodBuilder(const Scene& scene, const HexGrid& grid, const Ce
                                             t[static_cast<std::size_t>(4 + c)] * t[static_cast<std::size_t>(4 + c)] +
                                             t[static_cast<std::size_t>(8 + c)] * t[static_cast<std::size_t>(8 + c)]));
   }
+  if (options_.textures) {
+    object_sets_.resize(scene.objects.size());
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      object_sets_[i].add(scene.object_mesh(i), nullptr, static_cast<std::uint32_t>(i));
+      object_sets_[i].finish();
+    }
+  }
 }
 
 bool CellLodBuilder::inside(std::size_t object, const HexCell& cell) const {
@@ -158,6 +167,10 @@ CellLods CellLodBuilder::build(const HexCell& cell) const {
       entry.kind = LodKind::svmesh;
       const DepthImage depth = capture_depth(object, centre, resolution);
       entry.mesh = build_lod_mesh(object, {centre}, depth_variation_weights(object, depth), 1, tl);
+      if (options_.textures)
+        entry.textures.push_back(capture_texture(object_sets_[i], centre, p.centre, p.radius,
+                                                 capture_resolution(half_angle, pixel_angle_,
+                                                                    options_.max_texture_resolution)));
     } else {
       entry.kind = LodKind::mvmesh;
       std::vector<float> weights(object.num_vertices(), 0.0f);
@@ -173,6 +186,14 @@ CellLods CellLodBuilder::build(const HexCell& cell) const {
       std::vector<Vec3> eyes{centre};
       eyes.insert(eyes.end(), corners.begin(), corners.end());
       entry.mesh = build_lod_mesh(object, eyes, weights, 1, tl, &corners);
+      if (options_.textures) {
+        for (const Vec3& eye : eyes) {
+          const double d = norm(p.centre - eye);
+          const double h = d > p.radius ? std::asin(p.radius / d) : 85 * kDegree;
+          entry.textures.push_back(capture_texture(
+              object_sets_[i], eye, p.centre, p.radius, capture_resolution(h, pixel_angle_, options_.max_texture_resolution)));
+        }
+      }
     }
   }
   return out;

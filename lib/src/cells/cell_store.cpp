@@ -36,6 +36,71 @@ float bits_float(std::uint32_t b) {
 std::uint32_t zigzag(int v) { return (static_cast<std::uint32_t>(v) << 1) ^ static_cast<std::uint32_t>(v >> 31); }
 int unzigzag(std::uint64_t v) { return static_cast<int>((v >> 1) ^ (~(v & 1) + 1)); }
 
+void write_vec(ByteWriter& w, const Vec3& v) {
+  w.f64(v.x);
+  w.f64(v.y);
+  w.f64(v.z);
+}
+
+void write_texture(ByteWriter& w, const ProjectiveTexture& t) {
+  write_vec(w, t.view.eye);
+  write_vec(w, t.view.forward);
+  write_vec(w, t.view.right);
+  write_vec(w, t.view.up);
+  w.f64(t.view.tan_half_fov);
+  w.f64(t.view.near);
+  for (int v : {t.view.resolution, t.x0, t.y0, t.width, t.height}) w.u32(static_cast<std::uint32_t>(v));
+  w.u32(float_bits(t.near_distance));
+  w.u32(float_bits(t.far_distance));
+  w.bytes.append(reinterpret_cast<const char*>(t.y.data()), t.y.size());
+  for (std::uint16_t d : t.depth) {
+    w.bytes.push_back(static_cast<char>(d & 0xff));
+    w.bytes.push_back(static_cast<char>(d >> 8));
+  }
+}
+
+ProjectiveTexture read_texture(ByteReader& r, const std::string& path, const std::string& where) {
+  ProjectiveTexture t;
+  auto vec = [&] {
+    Vec3 v;
+    v.x = r.f64();
+    v.y = r.f64();
+    v.z = r.f64();
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      throw IoError(path, where + ": a texture view is not finite");
+    return v;
+  };
+  t.view.eye = vec();
+  t.view.forward = vec();
+  t.view.right = vec();
+  t.view.up = vec();
+  t.view.tan_half_fov = r.f64();
+  t.view.near = r.f64();
+  if (!(t.view.tan_half_fov > 0 && t.view.tan_half_fov < 1e6) || !(t.view.near > 0) || !std::isfinite(t.view.near))
+    throw IoError(path, where + ": a texture's field of view or near plane is out of range");
+  int* fields[] = {&t.view.resolution, &t.x0, &t.y0, &t.width, &t.height};
+  for (int* f : fields) {
+    const std::uint32_t v = r.u32();
+    if (v > 65536) throw IoError(path, where + ": a texture size is out of range");
+    *f = static_cast<int>(v);
+  }
+  if (t.x0 + t.width > t.view.resolution || t.y0 + t.height > t.view.resolution)
+    throw IoError(path, where + ": a texture's crop leaves its image");
+  t.near_distance = bits_float(r.u32());
+  t.far_distance = bits_float(r.u32());
+  if (!std::isfinite(t.near_distance) || !std::isfinite(t.far_distance) || t.far_distance < t.near_distance)
+    throw IoError(path, where + ": a texture's depth range is invalid");
+  const std::size_t pixels = static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height);
+  if (pixels > r.remaining() / 3) throw IoError(path, where + ": a texture does not fit in the file");
+  const std::string y = r.text(pixels), d = r.text(2 * pixels);
+  t.y.assign(y.begin(), y.end());
+  t.depth.resize(pixels);
+  for (std::size_t k = 0; k < pixels; ++k)
+    t.depth[k] = static_cast<std::uint16_t>(static_cast<unsigned char>(d[2 * k]) |
+                                            (static_cast<unsigned char>(d[2 * k + 1]) << 8));
+  return t;
+}
+
 }  // namespace
 
 std::uint64_t hash_scene(const Scene& scene) {
@@ -84,6 +149,8 @@ void write_cell(const CellLods& lods, std::uint64_t scene_hash, const std::strin
       }
       for (const Face& f : e.mesh.faces)
         for (VertexIndex v : f) w.varint(v);
+      w.varint(e.textures.size());
+      for (const ProjectiveTexture& t : e.textures) write_texture(w, t);
     }
   }
   w.u64(fnv1a(kFnvOffset, w.bytes.data(), w.bytes.size()));
@@ -166,6 +233,9 @@ CellLods parse_cell(const std::string& bytes, const std::string& path, const Sce
           v = static_cast<VertexIndex>(index);
         }
       }
+      const std::uint64_t textures = r.varint();
+      if (textures > 64) throw IoError(path, where + " has " + std::to_string(textures) + " textures (at most 64)");
+      for (std::uint64_t k = 0; k < textures; ++k) e.textures.push_back(read_texture(r, path, where));
     }
   }
   if (r.remaining() != 8) throw IoError(path, "cell file has " + std::to_string(r.remaining() - 8) + " bytes too many");
@@ -191,7 +261,9 @@ void write_manifest(const CellManifest& m, const std::string& path) {
                   {"resolution", m.options.output_resolution},
                   {"fov", m.options.fov_degrees},
                   {"max_capture", m.options.max_capture_resolution},
-                  {"base_levels", m.options.base_levels}};
+                  {"base_levels", m.options.base_levels},
+                  {"textures", m.options.textures},
+                  {"max_texture", m.options.max_texture_resolution}};
   nlohmann::json cells = nlohmann::json::array();
   for (std::size_t i = 0; i < m.cells.size(); ++i) {
     cells.push_back({{"q", m.cells[i].q},
@@ -234,6 +306,8 @@ CellManifest read_manifest(const std::string& path) {
     m.options.fov_degrees = o.at("fov").get<double>();
     m.options.max_capture_resolution = o.at("max_capture").get<int>();
     m.options.base_levels = o.at("base_levels").get<int>();
+    m.options.textures = o.value("textures", false);
+    m.options.max_texture_resolution = o.value("max_texture", 256);
     for (const auto& c : j.at("cells")) {
       m.cells.push_back({c.at("q").get<int>(), c.at("r").get<int>()});
       m.cell_faces.push_back(c.value("faces", std::size_t{0}));

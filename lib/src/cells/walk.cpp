@@ -19,22 +19,7 @@
 
 namespace visimp {
 namespace {
-
 constexpr double kDegree = M_PI / 180;
-// A fixed light, two-sided Lambert with an ambient floor; sky and ground are the background.
-constexpr float kAmbient = 0.25f, kDiffuse = 0.75f;
-constexpr std::uint8_t kBackground = 200;
-
-std::array<float, 3> to_float(const Vec3& v) {
-  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
-}
-
-float object_albedo(std::uint32_t object) {
-  // A fixed grey per object, spread over [0.55, 0.95] so neighbours differ.
-  std::uint64_t h = fnv1a(kFnvOffset, &object, sizeof object);
-  return 0.55f + 0.4f * static_cast<float>(h % 1000) / 999.0f;
-}
-
 }  // namespace
 
 std::vector<CameraPose> read_camera_path(const std::string& path) {
@@ -81,92 +66,15 @@ std::vector<CameraPose> auto_camera_path(const Scene& scene, double eye_height, 
   return out;
 }
 
-void RenderSet::add(const Mesh& mesh, const std::vector<std::uint32_t>* subset, std::uint32_t object) {
-  Group g;
-  g.first_face = static_cast<std::uint32_t>(faces.size());
-  // Only the vertices the faces use, in first-use order.
-  std::vector<VertexIndex> remap(mesh.num_vertices(), ~VertexIndex{0});
-  // Corner normals over all of the mesh's faces, also those left out (a culled subset of an
-  // object shades as the whole object does), smoothed only across edges bending less than
-  // kCreaseDegrees: a CAD part's sharp edges stay sharp however large its faces become.
-  constexpr double kCreaseDegrees = 40;
-  const double crease_cos = std::cos(kCreaseDegrees * kDegree);
-  std::vector<Vec3> area(mesh.num_faces()), unit(mesh.num_faces());
-  std::vector<std::uint32_t> first(mesh.num_vertices() + 1, 0), incident;
-  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    area[f] = face_normal_unnormalized(mesh, mesh.faces[f]);
-    const double length = norm(area[f]);
-    unit[f] = length > 0 ? area[f] / length : Vec3{0, 0, 0};
-    for (VertexIndex v : mesh.faces[f]) ++first[v + 1];
-  }
-  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) first[v + 1] += first[v];
-  incident.resize(first.back());
-  {
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::size_t f = 0; f < mesh.num_faces(); ++f)
-      for (VertexIndex v : mesh.faces[f]) incident[fill[v]++] = static_cast<std::uint32_t>(f);
-  }
-  BoundingBox box;
-  const std::size_t count = subset ? subset->size() : mesh.num_faces();
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t fi = subset ? (*subset)[k] : k;
-    const Face& f = mesh.faces[fi];
-    Face g_face;
-    std::array<std::array<float, 3>, 3> corners;
-    for (int c = 0; c < 3; ++c) {
-      const VertexIndex v = f[static_cast<std::size_t>(c)];
-      VertexIndex& m = remap[v];
-      if (m == ~VertexIndex{0}) {
-        m = static_cast<VertexIndex>(positions.size());
-        positions.push_back(to_float(mesh.positions[v]));
-        box.extend(mesh.positions[v]);
-      }
-      g_face[static_cast<std::size_t>(c)] = m;
-      Vec3 sum{0, 0, 0};
-      for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
-        const std::uint32_t h = incident[i];
-        if (dot(unit[h], unit[fi]) >= crease_cos) sum = sum + area[h];
-      }
-      const double length = norm(sum);
-      corners[static_cast<std::size_t>(c)] = to_float(length > 0 ? sum / length : unit[fi]);
-    }
-    faces.push_back(g_face);
-    corner_normals.push_back(corners);
-  }
-  g.faces = static_cast<std::uint32_t>(faces.size()) - g.first_face;
-  g.centre = box.center();
-  g.radius = g.faces ? 0.5 * box.diagonal() : 0;
-  face_albedo.resize(faces.size(), object_albedo(object));
-  groups.push_back(g);
-}
-
-void RenderSet::finish() {
-  face_normals.assign(faces.size(), {0, 0, 0});
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const auto& a = positions[faces[f][0]];
-    const auto& b = positions[faces[f][1]];
-    const auto& c = positions[faces[f][2]];
-    const Vec3 n = cross(Vec3{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, Vec3{c[0] - a[0], c[1] - a[1], c[2] - a[2]});
-    const double length = norm(n);
-    if (length > 0) face_normals[f] = to_float(n / length);
-  }
-}
-
-RenderSet full_scene_set(const Scene& scene) {
+RenderSet cell_set(const Scene& scene, CellLods lods) {
   RenderSet set;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i)
-    set.add(scene.object_mesh(i), nullptr, static_cast<std::uint32_t>(i));
-  set.finish();
-  return set;
-}
-
-RenderSet cell_set(const Scene& scene, const CellLods& lods) {
-  RenderSet set;
-  for (const CellEntry& e : lods.entries) {
-    if (e.kind == LodKind::full)
+  for (CellEntry& e : lods.entries) {
+    if (e.kind == LodKind::full) {
       set.add(scene.object_mesh(e.object), &e.faces, e.object);
-    else
+    } else {
       set.add(e.mesh, nullptr, e.object);
+      set.groups.back().textures = std::move(e.textures);
+    }
   }
   set.finish();
   return set;
@@ -176,91 +84,6 @@ PerspectiveView frame_view(const CameraPose& pose, double fov_degrees, int resol
   return PerspectiveView::looking_at(pose.position, pose.position + pose.direction, fov_degrees, resolution, near);
 }
 
-std::size_t render_frame(const RenderSet& set, const PerspectiveView& view, bool cull, Shading shading,
-                         PerspectiveRasterizer& raster, PerspectiveFrame& frame, FrameImage& out) {
-  // Per-group frustum test: the sphere against the four side planes and the near plane.
-  const double t = view.tan_half_fov, plane_norm = std::sqrt(1 + t * t);
-  std::vector<std::uint32_t> subset;
-  std::size_t drawn = 0;
-  bool all = true;
-  for (const RenderSet::Group& g : set.groups) {
-    bool keep = g.faces > 0;
-    if (keep && cull) {
-      const Vec3 p = g.centre - view.eye;
-      const double x = dot(p, view.right), y = dot(p, view.up), z = dot(p, view.forward);
-      keep = z + g.radius >= view.near && (x - t * z) / plane_norm <= g.radius &&
-             (-x - t * z) / plane_norm <= g.radius && (y - t * z) / plane_norm <= g.radius &&
-             (-y - t * z) / plane_norm <= g.radius;
-    }
-    if (!keep) {
-      all = false;
-      continue;
-    }
-    drawn += g.faces;
-    for (std::uint32_t f = g.first_face; f < g.first_face + g.faces; ++f) subset.push_back(f);
-  }
-  raster.draw(set.positions, set.faces, all ? nullptr : &subset, view, frame);
-  const int size = view.resolution;
-  out.resolution = size;
-  out.y.assign(static_cast<std::size_t>(size) * size, kBackground);
-  const Vec3 light_d = Vec3{0.3, 0.5, 0.8} / norm(Vec3{0.3, 0.5, 0.8});
-  const float light[3] = {static_cast<float>(light_d.x), static_cast<float>(light_d.y), static_cast<float>(light_d.z)};
-  const auto eye = to_float(view.eye);
-  for (int j = 0; j < size; ++j) {
-    for (int i = 0; i < size; ++i) {
-      const std::size_t p = static_cast<std::size_t>(j) * size + i;
-      const std::uint32_t id = frame.ids[p];
-      if (id == 0) continue;
-      const std::uint32_t f = id - 1;
-      std::array<float, 3> n = set.face_normals[f];
-      if (shading == Shading::smooth) {
-        // Barycentrics of the pixel's ray in the triangle (Möller–Trumbore), then the
-        // interpolated vertex normal.
-        const Vec3 dir = view.pixel_ray(i, j);
-        const float d[3] = {static_cast<float>(dir.x), static_cast<float>(dir.y), static_cast<float>(dir.z)};
-        const auto& a = set.positions[set.faces[f][0]];
-        const auto& b = set.positions[set.faces[f][1]];
-        const auto& c = set.positions[set.faces[f][2]];
-        const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const float s[3] = {eye[0] - a[0], eye[1] - a[1], eye[2] - a[2]};
-        const float pv[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
-        const float det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
-        if (std::abs(det) > 0) {
-          const float q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
-          float u = (s[0] * pv[0] + s[1] * pv[1] + s[2] * pv[2]) / det;
-          float v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-          u = std::clamp(u, 0.0f, 1.0f);
-          v = std::clamp(v, 0.0f, 1.0f - u);
-          const auto& na = set.corner_normals[f][0];
-          const auto& nb = set.corner_normals[f][1];
-          const auto& nc = set.corner_normals[f][2];
-          std::array<float, 3> m;
-          for (int k = 0; k < 3; ++k)
-            m[static_cast<std::size_t>(k)] = (1 - u - v) * na[static_cast<std::size_t>(k)] +
-                                             u * nb[static_cast<std::size_t>(k)] + v * nc[static_cast<std::size_t>(k)];
-          const float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-          if (length > 0) n = {m[0] / length, m[1] / length, m[2] / length};
-        }
-      }
-      const float lambert = std::abs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
-      const float grey = 255.0f * set.face_albedo[f] * (kAmbient + kDiffuse * lambert);
-      out.y[p] = static_cast<std::uint8_t>(std::clamp(grey + 0.5f, 0.0f, 255.0f));
-    }
-  }
-  return drawn;
-}
-
-double psnr(const FrameImage& reference, const FrameImage& approx) {
-  if (reference.y.size() != approx.y.size() || reference.y.empty())
-    throw UsageError("psnr: images of different sizes");
-  double sum = 0;
-  for (std::size_t p = 0; p < reference.y.size(); ++p) {
-    const double d = static_cast<double>(reference.y[p]) - approx.y[p];
-    sum += d * d;
-  }
-  const double mse = sum / static_cast<double>(reference.y.size());
-  return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
-}
 
 // ---- CellCache --------------------------------------------------------------------------
 
@@ -414,7 +237,7 @@ std::vector<WalkFrame> walk(const Scene& scene, const std::string& directory, co
     double read = 0;
     const std::shared_ptr<const RenderSet> set = cache.get(f.cell, &read);
     if (f.crossing) cache.prefetch_around(f.cell);
-    f.faces_c = render_frame(*set, view, true, options.shading, raster, scratch, image_c);
+    f.faces_c = render_frame(*set, view, true, options.shading, options.textures, raster, scratch, image_c);
     f.ms_c = 1e3 * seconds_since(start);
     f.read_ms = 1e3 * read;
     f.image_hash = fnv1a(kFnvOffset, image_c.y.data(), image_c.y.size());
@@ -422,10 +245,10 @@ std::vector<WalkFrame> walk(const Scene& scene, const std::string& directory, co
     f.psnr = std::numeric_limits<double>::quiet_NaN();
     if (references && k % options.reference_every == 0) {
       auto t0 = std::chrono::steady_clock::now();
-      f.faces_a = render_frame(full, view, false, options.shading, raster, scratch, image_a);
+      f.faces_a = render_frame(full, view, false, options.shading, false, raster, scratch, image_a);
       f.ms_a = 1e3 * seconds_since(t0);
       t0 = std::chrono::steady_clock::now();
-      f.faces_b = render_frame(full, view, true, options.shading, raster, scratch, image_b);
+      f.faces_b = render_frame(full, view, true, options.shading, false, raster, scratch, image_b);
       f.ms_b = 1e3 * seconds_since(t0);
       f.psnr = psnr(image_a, image_c);
     }

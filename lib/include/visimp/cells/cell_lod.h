@@ -22,7 +22,9 @@
 #include <vector>
 
 #include "visimp/cells/hex_grid.h"
+#include "visimp/cells/render_set.h"
 #include "visimp/cells/scene.h"
+#include "visimp/cells/textures.h"
 #include "visimp/core/mesh.h"
 
 namespace visimp {
@@ -35,6 +37,10 @@ struct CellBuildOptions {
   int max_capture_resolution = 512;  ///< cap of the depth images and hole tests
   /// Quadric pre-simplified versions per mesh, each 1/4 of the previous (0: always the full mesh).
   int base_levels = 5;
+  /// Projective textures of the original for every SVMesh (from the centre) and MVMesh (from
+  /// the centre and corners), at the output's pixel size, at most this many pixels across.
+  bool textures = true;
+  int max_texture_resolution = 256;
 };
 /// Throws UsageError naming the option when one is out of range.
 void check_options(const CellBuildOptions& options);
@@ -49,6 +55,7 @@ struct CellEntry {
   Mesh mesh;                           ///< svmesh / mvmesh: in scene coordinates
   float self_occluding_error = 0;      ///< s in output pixels (outside objects)
   std::uint32_t source_faces = 0;      ///< faces of the version the LOD was collapsed from
+  std::vector<ProjectiveTexture> textures;  ///< svmesh / mvmesh, with CellBuildOptions::textures
 };
 
 struct CellLods {
@@ -86,6 +93,7 @@ class CellLodBuilder {
   double pixel_angle_;
   std::vector<std::vector<Version>> versions_;  ///< per scene mesh, finest first (the first is the mesh)
   std::vector<Placed> placed_;                   ///< per object
+  std::vector<RenderSet> object_sets_;           ///< per object, whole, for the textures
 };
 
 /// The capture resolution that gives an object of angular radius `half_angle` (radians) about

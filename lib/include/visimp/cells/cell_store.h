@@ -6,8 +6,8 @@
 //
 // A .vcell (v1, little-endian): magic "VISCELL1", version, scene hash, q, r, then per entry
 // its kind, object, s, source faces and either the kept face indices (full: ascending, delta
-// varints) or the LOD mesh (float positions, varint faces); last, an FNV-1a hash of all bytes
-// before it. Readers refuse a file of another scene or cell, a wrong version, counts the
+// varints) or the LOD mesh (float positions, varint faces) and its projective textures (view,
+// crop, luminance bytes, 16-bit depths); last, an FNV-1a hash of all bytes before it. Readers refuse a file of another scene or cell, a wrong version, counts the
 // bytes cannot hold, indices out of range, non-finite positions and any changed byte.
 #pragma once
 

@@ -22,6 +22,7 @@
 
 #include "visimp/cells/cell_store.h"
 #include "visimp/cells/hex_grid.h"
+#include "visimp/cells/render_set.h"
 #include "visimp/cells/scene.h"
 #include "visimp/render/perspective.h"
 
@@ -39,44 +40,9 @@ std::vector<CameraPose> read_camera_path(const std::string& path);
 /// objects' x-y extent, looking along it and swinging ±30° to the sides, `frames` poses.
 std::vector<CameraPose> auto_camera_path(const Scene& scene, double eye_height, std::size_t frames);
 
-enum class Shading { flat, smooth };
+/// A cell's LOD set (inside objects' kept faces, LOD meshes with their textures), one group per entry.
+RenderSet cell_set(const Scene& scene, CellLods lods);
 
-/// Meshes packed for drawing: float positions, faces, per-face and per-corner normals, a grey
-/// albedo per face, and groups (an object, or an LOD mesh) with bounding spheres for culling.
-struct RenderSet {
-  struct Group {
-    std::uint32_t first_face = 0, faces = 0;
-    Vec3 centre;
-    double radius = 0;
-  };
-  std::vector<std::array<float, 3>> positions;
-  std::vector<Face> faces;
-  std::vector<std::array<float, 3>> face_normals;
-  std::vector<std::array<std::array<float, 3>, 3>> corner_normals;  ///< per face, smoothed within a crease angle
-  std::vector<float> face_albedo;
-  std::vector<Group> groups;
-  /// Adds `faces` of `mesh` (all when null) as one group, in the colour of scene object `object`;
-  /// corner normals are the mesh's own (area-weighted over all its faces, within 40° of the face).
-  void add(const Mesh& mesh, const std::vector<std::uint32_t>* faces, std::uint32_t object);
-  /// Call once after the last add(): face normals.
-  void finish();
-};
-/// The whole scene, one group per object.
-RenderSet full_scene_set(const Scene& scene);
-/// A cell's LOD set (inside objects' kept faces, LOD meshes), one group per entry.
-RenderSet cell_set(const Scene& scene, const CellLods& lods);
-
-struct FrameImage {
-  int resolution = 0;
-  std::vector<std::uint8_t> y;  ///< luminance, rows bottom to top
-};
-
-/// Draws the groups of `set` whose spheres meet the view frustum (all with `cull` false) and
-/// shades them; returns the faces drawn (those of the groups kept).
-std::size_t render_frame(const RenderSet& set, const PerspectiveView& view, bool cull, Shading shading,
-                         PerspectiveRasterizer& raster, PerspectiveFrame& scratch, FrameImage& out);
-/// PSNR of `approx` against `reference` in dB (infinity for identical images).
-double psnr(const FrameImage& reference, const FrameImage& approx);
 PerspectiveView frame_view(const CameraPose& pose, double fov_degrees, int resolution, double near);
 
 /// Cells read from a cell directory, kept while in use, optionally prefetched.
@@ -126,6 +92,7 @@ struct WalkOptions {
   int resolution = 1024;
   double fov_degrees = 60;
   Shading shading = Shading::smooth;
+  bool textures = true;  ///< LOD meshes take their grey from their projective textures
   bool prefetch = true;
   /// Every k-th frame is also drawn full (A) and frustum-culled (B) for PSNR and timing; 0: never.
   std::size_t reference_every = 1;
