@@ -217,8 +217,9 @@ bool ProjectiveTexture::sample(const Vec3& p, double tolerance, float* grey) con
   const double scale = 0.5 * view.resolution / (z * view.tan_half_fov);
   const double px = dot(q, view.right) * scale + 0.5 * view.resolution;
   const double py = dot(q, view.up) * scale + 0.5 * view.resolution;
-  const int i = static_cast<int>(std::floor(px)) - x0, j = static_cast<int>(std::floor(py)) - y0;
-  if (i < 0 || j < 0 || i >= width || j >= height) return false;
+  const double fi = std::floor(px) - x0, fj = std::floor(py) - y0;  // in double: px may be huge or NaN
+  if (!(fi >= 0 && fj >= 0 && fi < width && fj < height)) return false;
+  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
   const std::size_t k = static_cast<std::size_t>(j) * width + i;
   if (depth[k] == kNoDepth) return false;
   const double seen = near_distance + (far_distance - near_distance) * depth[k] / 65534.0;
