@@ -86,6 +86,8 @@ int run_build(const Args& args) {
   parser.add(option_spec("--base-levels", "N", options.base_levels,
                          "quadric versions per mesh to start far objects from (0: the full mesh)"));
   parser.add(negated_switch_spec("--no-textures", options.textures, "no projective textures (geometry only)"));
+  parser.add(switch_spec("--cluster", options.clustering, "greedy object clustering (Fig. 5): shared SVMeshes"));
+  parser.add(option_spec("--max-cluster", "N", options.max_cluster, "objects a cluster may hold"));
   parser.add(option_spec("--max-texture", "R", options.max_texture_resolution, "largest texture, pixels across"));
   parser.add(option_spec("--path", "PATH|auto", path_text, "build only the cells along this walk (and neighbours)"));
   parser.add(option_spec("--frames", "N", frames, "poses of --path auto"));
@@ -127,7 +129,7 @@ int run_build(const Args& args) {
   manifest.cells = cells;
   manifest.cell_faces.assign(cells.size(), 0);
   manifest.cell_seconds.assign(cells.size(), 0);
-  std::size_t kinds[3] = {0, 0, 0};
+  std::size_t kinds[4] = {0, 0, 0, 0};
   std::size_t outside_source = 0, outside_lod = 0, outside_original = 0, inside_faces = 0;
   std::mutex stats_mutex;
   StagedDirectory staged(out);
@@ -144,6 +146,7 @@ int run_build(const Args& args) {
                    manifest.cell_seconds[i] = seconds_since(t);
                    for (const CellEntry& e : lods.entries) {
                      ++kinds[static_cast<int>(e.kind)];
+                     if (e.kind == LodKind::in_cluster) continue;
                      if (e.kind == LodKind::full) {
                        inside_faces += e.faces.size();
                      } else {
@@ -174,6 +177,7 @@ int run_build(const Args& args) {
         .field("full", kinds[0])
         .field("svmesh", kinds[1])
         .field("mvmesh", kinds[2])
+        .field("in_cluster", kinds[3])
         .end_object();
     json.field("mean_faces_per_cell", mean_faces).field("inside_faces", inside_faces);
     json.field("outside_original_faces", outside_original).field("outside_source_faces", outside_source);

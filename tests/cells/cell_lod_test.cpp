@@ -69,6 +69,43 @@ TEST(CellLod, InsideObjectsStayWholeAndTsDecidesSvMeshOrMvMesh) {
   EXPECT_LT(tolerant.entries[1].mesh.num_faces(), lods.entries[1].mesh.num_faces());
 }
 
+TEST(CellLod, ClusteringSharesAnSvMeshAndCullsWhatTheClusterHides) {
+  Scene scene;
+  scene.meshes.push_back(test::icosphere(3, 1.0));
+  scene.mesh_paths.push_back("sphere");
+  scene.objects.push_back({"front", 0, translate(200, 0, 1, 3)});
+  scene.objects.push_back({"behind", 0, translate(230, 0, 1, 2.5)});  // hidden by "front" from the centre
+  scene.objects.push_back({"aside", 0, translate(0, 200, 1, 3)});
+  const HexGrid grid(5, 1);
+  CellBuildOptions options = small_options();
+  options.output_resolution = 1024;  // the spheres ~25 pixels across, so their SVMeshes keep some faces
+  const CellLods alone = CellLodBuilder(scene, grid, options).build({0, 0});
+  options.clustering = true;
+  const CellLods clustered = CellLodBuilder(scene, grid, options).build({0, 0});
+  for (const CellEntry& e : alone.entries) EXPECT_EQ(e.kind, LodKind::svmesh);
+  EXPECT_EQ(clustered.entries[0].kind, LodKind::svmesh);
+  EXPECT_EQ(clustered.entries[0].cluster, (std::vector<std::uint32_t>{0, 1}));
+  EXPECT_EQ(clustered.entries[1].kind, LodKind::in_cluster);
+  EXPECT_EQ(clustered.entries[1].cluster, (std::vector<std::uint32_t>{0}));
+  EXPECT_EQ(clustered.entries[2].kind, LodKind::svmesh);  // its projection meets no other
+  EXPECT_TRUE(clustered.entries[2].cluster.empty());
+  // The hidden sphere costs (almost) nothing any more.
+  EXPECT_LT(clustered.entries[0].mesh.num_faces(),
+            alone.entries[0].mesh.num_faces() + alone.entries[1].mesh.num_faces() / 4);
+  EXPECT_LT(clustered.faces(), alone.faces());
+  // Clusters survive the file; a member its holder does not list is refused.
+  const test::TempDir dir("cluster_file");
+  const std::uint64_t hash = hash_scene(scene);
+  write_cell(clustered, hash, dir.path() + "/c.vcell");
+  const CellLods back = read_cell(dir.path() + "/c.vcell", scene, hash, {0, 0});
+  EXPECT_EQ(back.entries[0].cluster, clustered.entries[0].cluster);
+  EXPECT_EQ(back.entries[1].kind, LodKind::in_cluster);
+  CellLods broken = clustered;
+  broken.entries[0].cluster = {0};
+  write_cell(broken, hash, dir.path() + "/b.vcell");
+  EXPECT_THROW(read_cell(dir.path() + "/b.vcell", scene, hash, {0, 0}), IoError);
+}
+
 TEST(CellLod, ASmallerTlKeepsMoreFaces) {
   const Scene scene = three_spheres();
   const HexGrid grid(5, 1);

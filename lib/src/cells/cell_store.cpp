@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -132,6 +133,9 @@ void write_cell(const CellLods& lods, std::uint64_t scene_hash, const std::strin
     w.varint(e.object);
     w.u32(float_bits(e.self_occluding_error));
     w.varint(e.source_faces);
+    w.varint(e.cluster.size());
+    for (std::uint32_t k : e.cluster) w.varint(k);
+    if (e.kind == LodKind::in_cluster) continue;
     if (e.kind == LodKind::full) {
       w.varint(e.faces.size());
       std::uint32_t previous = 0;
@@ -191,13 +195,26 @@ CellLods parse_cell(const std::string& bytes, const std::string& path, const Sce
     CellEntry& e = lods.entries[i];
     const std::string where = "entry " + std::to_string(i);
     const auto kind = static_cast<std::uint8_t>(r.text(1)[0]);
-    if (kind > 2) throw IoError(path, where + " has an unknown kind " + std::to_string(kind));
+    if (kind > 3) throw IoError(path, where + " has an unknown kind " + std::to_string(kind));
     e.kind = static_cast<LodKind>(kind);
     if (r.varint() != i) throw IoError(path, where + " names another object");
     e.object = static_cast<std::uint32_t>(i);
     e.self_occluding_error = bits_float(r.u32());
     if (!std::isfinite(e.self_occluding_error)) throw IoError(path, where + " has a non-finite s");
     e.source_faces = static_cast<std::uint32_t>(r.varint());
+    const std::uint64_t members = r.varint();
+    if (members > count) throw IoError(path, where + " names more cluster members than there are objects");
+    for (std::uint64_t k = 0; k < members; ++k) {
+      const std::uint64_t m = r.varint();
+      if (m >= count) throw IoError(path, where + ": a cluster member is out of range");
+      e.cluster.push_back(static_cast<std::uint32_t>(m));
+    }
+    if (e.kind == LodKind::in_cluster) {
+      if (members != 1) throw IoError(path, where + " is in a cluster but does not name one holder");
+      continue;
+    }
+    if (!e.cluster.empty() && (e.kind != LodKind::svmesh || e.cluster.front() != i))
+      throw IoError(path, where + " holds a cluster but is not its first member's SVMesh");
     if (e.kind == LodKind::full) {
       const std::size_t object_faces = scene.meshes[scene.objects[i].mesh].num_faces();
       const std::uint64_t n = r.varint();
@@ -239,6 +256,22 @@ CellLods parse_cell(const std::string& bytes, const std::string& path, const Sce
     }
   }
   if (r.remaining() != 8) throw IoError(path, "cell file has " + std::to_string(r.remaining() - 8) + " bytes too many");
+  // Clusters agree: a member names a holder whose cluster lists it, and every listed member
+  // but the holder says it is in that cluster.
+  for (const CellEntry& e : lods.entries) {
+    const std::string where = "entry " + std::to_string(e.object);
+    if (e.kind == LodKind::in_cluster) {
+      const CellEntry& holder = lods.entries[e.cluster.front()];
+      if (std::find(holder.cluster.begin(), holder.cluster.end(), e.object) == holder.cluster.end())
+        throw IoError(path, where + " names a cluster that does not list it");
+    } else if (!e.cluster.empty()) {
+      for (std::size_t k = 1; k < e.cluster.size(); ++k) {
+        const CellEntry& m = lods.entries[e.cluster[k]];
+        if (m.kind != LodKind::in_cluster || m.cluster.front() != e.object)
+          throw IoError(path, where + " lists a cluster member that is not in it");
+      }
+    }
+  }
   return lods;
 }
 
@@ -263,7 +296,9 @@ void write_manifest(const CellManifest& m, const std::string& path) {
                   {"max_capture", m.options.max_capture_resolution},
                   {"base_levels", m.options.base_levels},
                   {"textures", m.options.textures},
-                  {"max_texture", m.options.max_texture_resolution}};
+                  {"max_texture", m.options.max_texture_resolution},
+                  {"clustering", m.options.clustering},
+                  {"max_cluster", m.options.max_cluster}};
   nlohmann::json cells = nlohmann::json::array();
   for (std::size_t i = 0; i < m.cells.size(); ++i) {
     cells.push_back({{"q", m.cells[i].q},
@@ -308,6 +343,8 @@ CellManifest read_manifest(const std::string& path) {
     m.options.base_levels = o.at("base_levels").get<int>();
     m.options.textures = o.value("textures", false);
     m.options.max_texture_resolution = o.value("max_texture", 256);
+    m.options.clustering = o.value("clustering", false);
+    m.options.max_cluster = o.value("max_cluster", 8);
     for (const auto& c : j.at("cells")) {
       m.cells.push_back({c.at("q").get<int>(), c.at("r").get<int>()});
       m.cell_faces.push_back(c.value("faces", std::size_t{0}));

@@ -100,6 +100,22 @@ void RenderSet::finish() {
   }
 }
 
+void RenderSet::append(const RenderSet& o) {
+  const auto vertex_base = static_cast<VertexIndex>(positions.size());
+  const auto face_base = static_cast<std::uint32_t>(faces.size());
+  const auto group_base = static_cast<std::uint32_t>(groups.size());
+  positions.insert(positions.end(), o.positions.begin(), o.positions.end());
+  for (const Face& f : o.faces) faces.push_back({f[0] + vertex_base, f[1] + vertex_base, f[2] + vertex_base});
+  face_normals.insert(face_normals.end(), o.face_normals.begin(), o.face_normals.end());
+  corner_normals.insert(corner_normals.end(), o.corner_normals.begin(), o.corner_normals.end());
+  face_albedo.insert(face_albedo.end(), o.face_albedo.begin(), o.face_albedo.end());
+  for (std::uint32_t g : o.face_group) face_group.push_back(g + group_base);
+  for (Group g : o.groups) {
+    g.first_face += face_base;
+    groups.push_back(std::move(g));
+  }
+}
+
 RenderSet full_scene_set(const Scene& scene) {
   RenderSet set;
   for (std::size_t i = 0; i < scene.objects.size(); ++i)

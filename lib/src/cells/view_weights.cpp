@@ -124,6 +124,11 @@ double self_occluding_error(const Mesh& mesh, const Vec3& centre, const std::arr
     const Vec3 n = face_normal_unnormalized(mesh, mesh.faces[f]);
     if (dot(n, centre - mesh.positions[mesh.faces[f][0]]) > 0) front.push_back(static_cast<std::uint32_t>(f));
   }
+  return self_occluding_error(mesh, front, corners, resolution, fov_degrees);
+}
+
+double self_occluding_error(const Mesh& mesh, const std::vector<std::uint32_t>& front,
+                            const std::array<Vec3, 6>& corners, int resolution, double fov_degrees) {
   const BoundingBox box = bounding_box(mesh);
   PerspectiveRasterizer raster;
   PerspectiveFrame whole, partial;

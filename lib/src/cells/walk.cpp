@@ -69,6 +69,7 @@ std::vector<CameraPose> auto_camera_path(const Scene& scene, double eye_height, 
 RenderSet cell_set(const Scene& scene, CellLods lods) {
   RenderSet set;
   for (CellEntry& e : lods.entries) {
+    if (e.kind == LodKind::in_cluster) continue;  // drawn by its cluster's SVMesh
     if (e.kind == LodKind::full) {
       set.add(scene.object_mesh(e.object), &e.faces, e.object);
     } else {

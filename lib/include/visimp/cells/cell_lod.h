@@ -41,11 +41,17 @@ struct CellBuildOptions {
   /// the centre and corners), at the output's pixel size, at most this many pixels across.
   bool textures = true;
   int max_texture_resolution = 256;
+  /// The paper's greedy object clustering (Fig. 5): objects passing the Ts test whose
+  /// projections overlap share one SVMesh when the union still passes, and the surfaces the
+  /// others hide from the centre are culled. At most `max_cluster` objects a cluster.
+  bool clustering = false;
+  int max_cluster = 8;
 };
 /// Throws UsageError naming the option when one is out of range.
 void check_options(const CellBuildOptions& options);
 
-enum class LodKind : std::uint8_t { full = 0, svmesh = 1, mvmesh = 2 };
+/// in_cluster: drawn by another entry's cluster SVMesh (CellEntry::cluster names it).
+enum class LodKind : std::uint8_t { full = 0, svmesh = 1, mvmesh = 2, in_cluster = 3 };
 const char* to_string(LodKind kind);
 
 struct CellEntry {
@@ -56,6 +62,8 @@ struct CellEntry {
   float self_occluding_error = 0;      ///< s in output pixels (outside objects)
   std::uint32_t source_faces = 0;      ///< faces of the version the LOD was collapsed from
   std::vector<ProjectiveTexture> textures;  ///< svmesh / mvmesh, with CellBuildOptions::textures
+  /// A cluster's SVMesh: every member (this object first); in_cluster: the entry holding it.
+  std::vector<std::uint32_t> cluster;
 };
 
 struct CellLods {

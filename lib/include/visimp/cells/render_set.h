@@ -38,6 +38,8 @@ struct RenderSet {
   void add(const Mesh& mesh, const std::vector<std::uint32_t>* faces, std::uint32_t object);
   /// Call once after the last add(): face normals.
   void finish();
+  /// Appends another finished set's groups (textures included).
+  void append(const RenderSet& other);
 };
 /// The whole scene, one group per object.
 RenderSet full_scene_set(const Scene& scene);

@@ -40,5 +40,9 @@ std::vector<float> depth_variation_weights(const Mesh& mesh, const DepthImage& i
 /// it. s is the largest width over all corners (0: no hole anywhere).
 double self_occluding_error(const Mesh& mesh, const Vec3& centre, const std::array<Vec3, 6>& corners, int resolution,
                             double fov_degrees);
+/// The same for a given set of kept faces (a cluster's: front-facing to the centre and not
+/// hidden there by the cluster's other objects).
+double self_occluding_error(const Mesh& mesh, const std::vector<std::uint32_t>& kept,
+                            const std::array<Vec3, 6>& corners, int resolution, double fov_degrees);
 
 }  // namespace visimp
