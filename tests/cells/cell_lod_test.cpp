@@ -368,6 +368,24 @@ TEST(Textures, ATextureGivesBackWhatItSawAndOnlyThat) {
   EXPECT_LT(mapped_error, 0.25 * plain_error);
 }
 
+TEST(Scene, ObjGroupsAreTheObjects) {
+  const test::TempDir dir("obj_groups");
+  const std::string path = dir.path() + "/two.obj";
+  // Two groups; the second is two triangles that share no vertex (two components, one object).
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nv 9 0 0\nv 9 1 0\nv 9 0 1\n"
+                         "o left\nf 1 2 3\ng right part\nf 4 5 6\nf 7 8 9\n";
+  const Scene scene = read_scene(path);
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_EQ(scene.objects[0].name, "left");
+  EXPECT_EQ(scene.objects[1].name, "right part");
+  EXPECT_EQ(scene.meshes[scene.objects[1].mesh].num_faces(), 2u);
+  // Without groups, the components are the objects, as for any mesh file.
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nf 1 2 3\nf 4 5 6\n";
+  EXPECT_EQ(read_scene(path).objects.size(), 2u);
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
+  EXPECT_THROW(read_scene(path), IoError);
+}
+
 TEST(Walk, CameraPathsAreReadStrictly) {
   const test::TempDir dir("path");
   const std::string good = dir.path() + "/good.txt";

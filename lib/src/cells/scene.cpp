@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -14,6 +15,8 @@
 #include "visimp/core/union_find.h"
 #include "visimp/io/atomic_file.h"
 #include "visimp/io/mesh_io.h"
+#include "visimp/io/obj.h"
+#include "visimp/core/validate.h"
 
 namespace visimp {
 
@@ -54,20 +57,42 @@ std::size_t Scene::face_count() const {
 
 namespace {
 
+bool is_obj(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".obj";
+}
+
 Scene mesh_as_scene(const std::string& path) {
-  Mesh mesh = read_mesh(path);
+  // An OBJ with more than one o/g group: the groups are the objects. Otherwise the connected
+  // components (over shared vertices) are.
+  ObjGroups groups;
+  Mesh mesh;
+  if (is_obj(path)) {
+    mesh = read_obj(read_file_bytes(path), path, &groups);
+    const ValidationReport report = validate(mesh);
+    if (!report.ok()) throw IoError(path, report.first_problem);
+  } else {
+    mesh = read_mesh(path);
+  }
+  const bool by_group = groups.names.size() > 1;
   Scene scene;
   scene.mesh_paths.push_back(path);
-  // Components over shared vertices are the objects; each becomes its own mesh.
   UnionFind sets(mesh.num_vertices());
-  for (const Face& f : mesh.faces) {
-    sets.unite(f[0], f[1]);
-    sets.unite(f[0], f[2]);
+  if (!by_group) {
+    for (const Face& f : mesh.faces) {
+      sets.unite(f[0], f[1]);
+      sets.unite(f[0], f[2]);
+    }
   }
   std::map<std::uint32_t, std::size_t> component;
   std::vector<std::vector<VertexIndex>> remap;
-  for (const Face& f : mesh.faces) {
-    const auto [it, added] = component.emplace(sets.find(f[0]), scene.meshes.size());
+  std::vector<std::uint32_t> object_key;
+  for (std::size_t fi = 0; fi < mesh.faces.size(); ++fi) {
+    const Face& f = mesh.faces[fi];
+    const std::uint32_t key = by_group ? groups.face_group[fi] : sets.find(f[0]);
+    const auto [it, added] = component.emplace(key, scene.meshes.size());
+    if (added) object_key.push_back(key);
     if (added) {
       scene.meshes.emplace_back();
       remap.emplace_back(mesh.num_vertices(), ~VertexIndex{0});
@@ -86,8 +111,11 @@ Scene mesh_as_scene(const std::string& path) {
     part.faces.push_back(g);
   }
   scene.mesh_paths.assign(scene.meshes.size(), path);
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
-    scene.objects.push_back({"component_" + std::to_string(i), i, kIdentity});
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    const std::string name = by_group ? groups.names[object_key[i]] : "";
+    scene.objects.push_back({name.empty() ? (by_group ? "group_" : "component_") + std::to_string(i) : name, i,
+                             kIdentity});
+  }
   return scene;
 }
 

@@ -1,5 +1,6 @@
 #include "visimp/io/obj.h"
 
+#include <algorithm>
 #include <ostream>
 #include <vector>
 
@@ -8,8 +9,13 @@
 
 namespace visimp {
 
-Mesh read_obj(std::string_view text, const std::string& name) {
+Mesh read_obj(std::string_view text, const std::string& name) { return read_obj(text, name, nullptr); }
+
+Mesh read_obj(std::string_view text, const std::string& name, ObjGroups* groups) {
   Mesh mesh;
+  std::string group;
+  std::uint32_t group_index = 0;
+  bool group_known = false;
   detail::TextScanner sc(text, name);
   std::vector<std::string_view> tok;
   std::vector<std::uint32_t> polygon;
@@ -21,6 +27,13 @@ Mesh read_obj(std::string_view text, const std::string& name) {
       const Vec3 p{sc.to_double(tok[1], "x"), sc.to_double(tok[2], "y"), sc.to_double(tok[3], "z")};
       if (!is_finite(p)) sc.fail("vertex has a non-finite coordinate");
       mesh.positions.push_back(p);
+    } else if (tok[0] == "o" || tok[0] == "g") {
+      std::string named;
+      for (std::size_t i = 1; i < tok.size(); ++i) named += (i > 1 ? " " : "") + std::string(tok[i]);
+      if (named != group || !group_known) {
+        group = named;
+        group_known = false;
+      }
     } else if (tok[0] == "f") {
       if (tok.size() < 4) sc.fail("face has " + std::to_string(tok.size() - 1) + " vertices (at least 3 needed)");
       polygon.clear();
@@ -35,7 +48,17 @@ Mesh read_obj(std::string_view text, const std::string& name) {
                   " vertices so far)");
         polygon.push_back(static_cast<std::uint32_t>(resolved));
       }
+      const std::size_t before = mesh.faces.size();
       detail::append_fan(polygon, mesh.faces);
+      if (groups) {
+        if (!group_known) {
+          const auto it = std::find(groups->names.begin(), groups->names.end(), group);
+          group_index = static_cast<std::uint32_t>(it - groups->names.begin());
+          if (it == groups->names.end()) groups->names.push_back(group);
+          group_known = true;
+        }
+        groups->face_group.resize(groups->face_group.size() + (mesh.faces.size() - before), group_index);
+      }
     }
   }
   // OBJ skips statements it does not know, so another format read as OBJ parses to nothing.

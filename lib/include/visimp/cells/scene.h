@@ -7,7 +7,8 @@
 //
 // Mesh paths are relative to the scene file's directory; the same path may be placed many
 // times (instances share one read). A PLY, OBJ, OFF or STL file also reads as a scene: its
-// connected components are the objects, with identity transforms.
+// connected components are the objects, with identity transforms — or, for an OBJ with more
+// than one `o`/`g` group, its groups, named as in the file.
 #pragma once
 
 #include <array>
