@@ -559,8 +559,8 @@ TEST_F(App, CellsBuildAndWalkAPark) {
   ASSERT_EQ(walk.code, 0) << walk.err;
   EXPECT_EQ(json_count(walk.out, "frames"), 12u);
   EXPECT_NE(walk.out.find("\"psnr\""), std::string::npos);
-  EXPECT_EQ(std::count(test::slurp(walked + "/frames.csv").begin(), test::slurp(walked + "/frames.csv").end(), '\n'),
-            13);
+  const std::string csv = test::slurp(walked + "/frames.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);  // a header and 12 frames
   EXPECT_TRUE(std::filesystem::exists(walked + "/walk.json"));
   // Bad usage names the flag; a path leaving the built cells, or another scene, is refused.
   for (const auto& [args, flag] : std::vector<std::pair<std::string, std::string>>{
