@@ -18,19 +18,6 @@ namespace {
 
 constexpr double kDegree = M_PI / 180;
 
-Mesh transformed(const Mesh& mesh, const Transform& t) {
-  Mesh out;
-  out.positions.reserve(mesh.positions.size());
-  for (const Vec3& p : mesh.positions) out.positions.push_back(transform_point(t, p));
-  out.faces = mesh.faces;
-  const double det =
-      t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) + t[2] * (t[4] * t[9] - t[5] * t[8]);
-  if (det < 0) {
-    for (Face& f : out.faces) std::swap(f[1], f[2]);
-  }
-  return out;
-}
-
 }  // namespace
 
 void check_options(const CellBuildOptions& o) {

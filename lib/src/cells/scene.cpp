@@ -35,12 +35,12 @@ Transform multiply(const Transform& a, const Transform& b) {
   return out;
 }
 
-Mesh Scene::object_mesh(std::size_t i) const {
-  const SceneObject& o = objects[i];
-  Mesh out = meshes[o.mesh];
-  for (Vec3& p : out.positions) p = transform_point(o.transform, p);
+Mesh Scene::object_mesh(std::size_t i) const { return transformed(meshes[objects[i].mesh], objects[i].transform); }
+
+Mesh transformed(const Mesh& mesh, const Transform& t) {
+  Mesh out = mesh;
+  for (Vec3& p : out.positions) p = transform_point(t, p);
   // A mirroring transform turns faces inside out: rewind them so normals stay outward.
-  const Transform& t = o.transform;
   const double det =
       t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) + t[2] * (t[4] * t[9] - t[5] * t[8]);
   if (det < 0) {

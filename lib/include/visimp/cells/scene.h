@@ -25,6 +25,8 @@ inline constexpr Transform kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0
 
 Vec3 transform_point(const Transform& t, const Vec3& p);
 Transform multiply(const Transform& a, const Transform& b);
+/// `mesh` moved by `t`, faces rewound when `t` mirrors (so outward normals stay outward).
+Mesh transformed(const Mesh& mesh, const Transform& t);
 
 struct SceneObject {
   std::string name;
