@@ -404,5 +404,33 @@ TEST(Walk, CameraPathsAreReadStrictly) {
   for (const CameraPose& p : loop) EXPECT_EQ(p.position.z, 1);
 }
 
+// The auto loop walks around objects on its ellipse instead of through them (frames from inside
+// a solid compare back faces the cells rightly cull), and stays on the ellipse elsewhere.
+TEST(Walk, AutoPathWalksAroundObjects) {
+  Scene scene;
+  scene.meshes.push_back(test::icosphere(3, 1.0));
+  scene.mesh_paths.push_back("sphere");
+  // Two markers span x, y in [-1, 101]: the ellipse is centred at (50, 50) with semi-axes 35.7.
+  scene.objects.push_back({"corner", 0, translate(0, 0, 1)});
+  scene.objects.push_back({"corner", 0, translate(100, 100, 1)});
+  // Two statues of radius 5 right on it, at t = 0 and t = 90 degrees.
+  const double a = 0.35 * 102;
+  scene.objects.push_back({"statue", 0, translate(50 + a, 50, 5, 5)});
+  scene.objects.push_back({"statue", 0, translate(50, 50 + a, 5, 5)});
+  const auto loop = auto_camera_path(scene, 2, 400);
+  ASSERT_EQ(loop.size(), 400u);
+  std::size_t detoured = 0;
+  for (const CameraPose& p : loop) {
+    for (const Vec3& c : {Vec3{50 + a, 50, 0}, Vec3{50, 50 + a, 0}})
+      EXPECT_GE(std::hypot(p.position.x - c.x, p.position.y - c.y), 5 * 1.1 * (1 - 1e-3));  // icosphere radius 1
+    const double r = std::hypot((p.position.x - 50) / a, (p.position.y - 50) / a);
+    if (std::abs(r - 1) > 1e-9) ++detoured;
+    EXPECT_EQ(p.position.z, 2);
+  }
+  // Each statue blocks ~2 x 5.5 / (2 pi 35.7) of the loop: about 20 poses each.
+  EXPECT_GT(detoured, 20u);
+  EXPECT_LT(detoured, 60u);
+}
+
 }  // namespace
 }  // namespace visimp

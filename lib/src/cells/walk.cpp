@@ -49,17 +49,53 @@ std::vector<CameraPose> read_camera_path(const std::string& path) {
 }
 
 std::vector<CameraPose> auto_camera_path(const Scene& scene, double eye_height, std::size_t frames) {
+  // Each object's ground footprint: the x-y disc around its box centre holding its vertices.
+  struct Footprint {
+    double x = 0, y = 0, radius = 0;
+  };
   BoundingBox box;
+  std::vector<Footprint> footprints;
+  std::vector<Vec3> placed;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
-    for (const Vec3& p : scene.meshes[o.mesh].positions) box.extend(transform_point(o.transform, p));
+    placed.clear();
+    BoundingBox object_box;
+    for (const Vec3& p : scene.meshes[o.mesh].positions) {
+      placed.push_back(transform_point(o.transform, p));
+      object_box.extend(placed.back());
+    }
+    if (placed.empty()) continue;
+    box.extend(object_box.min);
+    box.extend(object_box.max);
+    Footprint f{0.5 * (object_box.min.x + object_box.max.x), 0.5 * (object_box.min.y + object_box.max.y), 0};
+    for (const Vec3& p : placed) f.radius = std::max(f.radius, std::hypot(p.x - f.x, p.y - f.y));
+    footprints.push_back(f);
   }
   const double cx = 0.5 * (box.min.x + box.max.x), cy = 0.5 * (box.min.y + box.max.y);
   const double ax = 0.35 * (box.max.x - box.min.x), ay = 0.35 * (box.max.y - box.min.y);
+  // A visitor walks around objects, not through them: a pose inside a footprint (plus a
+  // margin) is pushed radially out of it. Without this the ellipse passes through statues and
+  // the frames from inside a solid, where the full scene shows back faces that any culling
+  // rightly drops, dominate the worst PSNR. A few passes settle overlapping footprints.
+  auto walk_around = [&](Vec3 p) {
+    for (int pass = 0; pass < 8; ++pass) {
+      bool moved = false;
+      for (const Footprint& f : footprints) {
+        const double clear = 1.1 * f.radius, dx = p.x - f.x, dy = p.y - f.y, d = std::hypot(dx, dy);
+        if (!(d < clear)) continue;
+        const double ux = d > 0 ? dx / d : 1, uy = d > 0 ? dy / d : 0;  // the centre itself: leave along +x
+        p.x = f.x + ux * clear;
+        p.y = f.y + uy * clear;
+        moved = true;
+      }
+      if (!moved) break;
+    }
+    return p;
+  };
   std::vector<CameraPose> out;
   for (std::size_t k = 0; k < frames; ++k) {
     const double t = 2 * M_PI * static_cast<double>(k) / static_cast<double>(frames);
-    const Vec3 p{cx + ax * std::cos(t), cy + ay * std::sin(t), eye_height};
+    const Vec3 p = walk_around({cx + ax * std::cos(t), cy + ay * std::sin(t), eye_height});
     const double heading = std::atan2(ay * std::cos(t), -ax * std::sin(t)) + 30 * kDegree * std::sin(5 * t);
     out.push_back({p, {std::cos(heading), std::sin(heading), 0}});
   }

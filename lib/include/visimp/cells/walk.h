@@ -37,7 +37,9 @@ struct CameraPose {
 /// Throws IoError naming the file and line for anything else.
 std::vector<CameraPose> read_camera_path(const std::string& path);
 /// A closed loop through the scene at eye height: an ellipse over the middle 70% of the
-/// objects' x-y extent, looking along it and swinging ±30° to the sides, `frames` poses.
+/// objects' x-y extent, looking along it and swinging ±30° to the sides, `frames` poses. It
+/// walks around objects: a pose inside an object's ground footprint (the x-y disc holding its
+/// vertices, widened by 10%) is pushed radially out of it.
 std::vector<CameraPose> auto_camera_path(const Scene& scene, double eye_height, std::size_t frames);
 
 /// A cell's LOD set (inside objects' kept faces, LOD meshes with their textures), one group per entry.
