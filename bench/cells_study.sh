@@ -60,6 +60,10 @@ for size in 2 4 8; do
   rm -rf "cells_${size}M-50-5-4.5"
 done
 
+# visimp's default Tl (3: the paper's smallest; 4.5 misses 35 dB untextured) on every 4M cell.
+run_config "4M-50-5-3.0-all" 4M 50 5 3.0
+rm -rf "cells_4M-50-5-3.0-all"
+
 # Sweeps on the 4M park (the cells along the walk and their neighbours only).
 for cfg in "50 3 4.5" "50 7 4.5" "50 5 3.0" "50 5 6.0" "100 5 4.5"; do
   set -- $cfg

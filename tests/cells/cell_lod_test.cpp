@@ -230,14 +230,14 @@ TEST(CellStore, ManifestsRoundTripAndRefuseOtherFiles) {
   m.cells = {{0, 0}, {-1, 2}};
   m.cell_faces = {10, 20};
   m.cell_seconds = {0.5, 0.25};
-  m.options.tl_pixels = 3;
+  m.options.tl_pixels = 3.75;  // not the default, so the round trip is seen
   write_manifest(m, dir.path() + "/cells.json");
   const CellManifest back = read_manifest(dir.path() + "/cells.json");
   EXPECT_EQ(back.scene_hash, m.scene_hash);
   EXPECT_EQ(back.cells.size(), 2u);
   EXPECT_EQ(back.cells[1], (HexCell{-1, 2}));
   EXPECT_EQ(back.cell_size, 7.5);
-  EXPECT_EQ(back.options.tl_pixels, 3);
+  EXPECT_EQ(back.options.tl_pixels, 3.75);
   for (const char* text : {"{", "{\"format\": \"visimp-scene\", \"version\": 1}",
                            "{\"format\": \"visimp-cells\", \"version\": 2}",
                            "{\"format\": \"visimp-cells\", \"version\": 1, \"scene_hash\": \"zz\"}"}) {

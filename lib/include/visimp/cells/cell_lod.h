@@ -31,7 +31,10 @@ namespace visimp {
 
 struct CellBuildOptions {
   double ts_pixels = 5;    ///< Ts: the largest self-occlusion hole an SVMesh may show
-  double tl_pixels = 4.5;  ///< Tl: collapsing stops when every edge left is longer than this
+  /// Tl: collapsing stops when every edge left is longer than this. 3 is the smallest of the
+  /// paper's settings (its tables use 4.5): without textures 4.5 leaves a large LOD's
+  /// shading faceted enough to miss 35 dB on our parks (docs/cells.md, sweeps).
+  double tl_pixels = 3.0;
   int output_resolution = 1024;
   double fov_degrees = 60;
   int max_capture_resolution = 512;  ///< cap of the depth images and hole tests
