@@ -9,11 +9,39 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include "visimp/core/errors.h"
 
 namespace visimp::app {
+
+int run_reporting_errors(const std::string& program, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const OptionError& e) {
+    std::cerr << program << ": error: " << describe_option_error(e) << "\n";
+    return kExitBadUsage;
+  } catch (const BackendError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const UsageError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return kExitBadUsage;
+  } catch (const IoError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const InvalidMeshError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << program << ": error: out of memory\n";
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}
 
 ArgParser::ArgParser(std::string usage, std::string description, std::size_t min_positionals,
                      std::size_t max_positionals)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -17,6 +18,18 @@
 #include "visimp/simplify/simplify.h"
 
 namespace visimp::app {
+
+// The exit codes of every visimp app (README and --help document them).
+enum ExitCode : int {
+  kExitSuccess = 0,
+  kExitBadInput = 1,  ///< a file could not be read, parsed or written, a mesh is invalid, or a backend cannot run
+  kExitBadUsage = 2,  ///< unknown flag, missing or malformed argument, option out of range
+  kExitInternal = 3,  ///< anything else: a bug in visimp
+};
+
+/// Runs `body` and maps what it throws to one "PROGRAM: error: ..." line on stderr and the
+/// exit code of its kind (every app's main goes through this).
+int run_reporting_errors(const std::string& program, const std::function<int()>& body);
 
 class ArgParser {
  public:

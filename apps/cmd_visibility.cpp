@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "backends.h"
@@ -68,7 +69,12 @@ Mesh with_visibility(Mesh mesh, const Visibility& v) {
 
 }  // namespace
 
-int run_visibility(const Args& args) {
+std::pair<std::size_t, std::size_t> camera_slice(std::size_t first, std::size_t last, int rank, int ranks) {
+  const std::size_t n = last - first, r = static_cast<std::size_t>(rank), k = static_cast<std::size_t>(ranks);
+  return {first + n * r / k, first + n * (r + 1) / k};
+}
+
+int run_visibility(const Args& args, CameraSplit* split) {
   VisibilityOptions options;
   SamplingOptions sampling;
   StreamOptions stream;
@@ -97,6 +103,12 @@ int run_visibility(const Args& args) {
   check_pixels(png_size, "--png-size");
   const CameraSet cameras = camera_set_from_spec(sampling.cameras);
   const auto [first, last] = parse_camera_range(range_text, cameras.size());
+  const int ranks = split ? split->ranks() : 1;
+  const bool root = !split || split->rank() == 0;
+  if (static_cast<std::size_t>(ranks) > last - first)
+    throw UsageError(std::to_string(ranks) + " processes for " + std::to_string(last - first) +
+                     " cameras: use at most one process per camera");
+  const auto [my_first, my_last] = split ? camera_slice(first, last, split->rank(), ranks) : std::pair{first, last};
   const auto renderer = make_renderer(sampling.backend, render_options(sampling));
 
   const auto start = std::chrono::steady_clock::now();
@@ -107,9 +119,13 @@ int run_visibility(const Args& args) {
   auto t = std::chrono::steady_clock::now();
   VisibilityTally tally;
   {
-    ProgressBar progress("visibility");
-    tally = job.render(cameras, first, last, *renderer, &progress);
+    std::optional<ProgressBar> progress;
+    if (root) progress.emplace("visibility");  // one bar, for process 0's slice
+    tally = job.render(cameras, my_first, my_last, *renderer, progress ? &*progress : nullptr);
   }
+  // The tallies are integer sums, so the merged one, and V, are the same bytes as one process's.
+  if (split) tally = split->gather(tally);
+  if (!root) return 0;
   const double render_seconds = seconds_since(t);
   double write_seconds = 0, png_seconds = 0;
   if (!tally_path.empty()) {
@@ -143,7 +159,7 @@ int run_visibility(const Args& args) {
     if (!tally_path.empty()) json.field("tally", tally_path);
     json.field("backend", renderer->name()).field("camera_set", cameras.name);
     json.field("camera_first", first).field("camera_last", last).field("fractional", options.fractional);
-    json.field("trust_winding", options.trust_winding);
+    json.field("trust_winding", options.trust_winding).field("processes", ranks);
     write_stats(json, s);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
     json.key("seconds")

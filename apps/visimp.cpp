@@ -11,14 +11,6 @@
 
 namespace {
 
-// The exit codes of every visimp app (README and --help document them).
-enum ExitCode : int {
-  kExitSuccess = 0,
-  kExitBadInput = 1,  ///< a file could not be read, parsed or written, a mesh is invalid, or a backend cannot run
-  kExitBadUsage = 2,  ///< unknown flag, missing or malformed argument, option out of range
-  kExitInternal = 3,  ///< anything else: a bug in visimp
-};
-
 constexpr const char* kUsage =
     "usage: visimp COMMAND [options]\n"
     "\n"
@@ -45,6 +37,7 @@ constexpr const char* kUsage =
 
 int main(int argc, char** argv) {
   using namespace visimp;
+  using namespace visimp::app;
   if (argc < 2) {
     std::cerr << kUsage;
     return kExitBadUsage;
@@ -52,14 +45,14 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   const app::Args args(argv + 2, argv + argc);
   install_interrupt_cleanup();  // no temporary file outlives a Ctrl-C, a kill or a hang-up
-  try {
+  return run_reporting_errors("visimp " + command, [&] {
     if (command == "--help" || command == "-h" || command == "help") {
       std::cout << kUsage;
-      return kExitSuccess;
+      return int(kExitSuccess);
     }
     if (command == "--version") {
       std::cout << app::version_line() << "\n";
-      return kExitSuccess;
+      return int(kExitSuccess);
     }
     if (command == "simplify") return app::run_simplify(args);
     if (command == "info") return app::run_info(args);
@@ -76,26 +69,5 @@ int main(int argc, char** argv) {
     if (command == "scene") return app::run_scene(args);
     if (command == "cells") return app::run_cells(args);
     throw UsageError("unknown command '" + command + "' (see visimp --help)");
-  } catch (const OptionError& e) {
-    std::cerr << "visimp " << command << ": error: " << app::describe_option_error(e) << "\n";
-    return kExitBadUsage;
-  } catch (const BackendError& e) {
-    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const UsageError& e) {
-    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
-    return kExitBadUsage;
-  } catch (const IoError& e) {
-    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const InvalidMeshError& e) {
-    std::cerr << "visimp " << command << ": error: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "visimp " << command << ": error: out of memory\n";
-    return kExitInternal;
-  } catch (const std::exception& e) {
-    std::cerr << "visimp " << command << ": internal error: " << e.what() << "\n";
-    return kExitInternal;
-  }
+  });
 }

@@ -94,6 +94,13 @@ std::string VisibilityTally::describe_missing() const {
 }
 
 void VisibilityTally::write(const std::string& path) const {
+  const std::string data = bytes();
+  AtomicFileWriter file(path);
+  file.stream().write(data.data(), static_cast<std::streamsize>(data.size()));
+  file.commit();
+}
+
+std::string VisibilityTally::bytes() const {
   ByteWriter w;
   w.bytes.assign(kMagic, kMagic + 8);
   w.u64(key.mesh_hash);
@@ -114,9 +121,7 @@ void VisibilityTally::write(const std::string& path) const {
   for (std::uint32_t v : total) w.u32(v);
   for (std::uint32_t v : seen_back) w.u32(v);
   for (std::uint32_t v : total_back) w.u32(v);
-  AtomicFileWriter file(path);
-  file.stream().write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
-  file.commit();
+  return std::string(w.bytes.begin(), w.bytes.end());
 }
 
 VisibilityTally VisibilityTally::read(const std::string& path) { return parse(read_file_bytes(path), path); }

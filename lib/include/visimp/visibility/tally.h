@@ -66,6 +66,8 @@ struct VisibilityTally {
 
   /// Atomic write; throws IoError.
   void write(const std::string& path) const;
+  /// What write() writes (parse() reads it back): for sending a tally between processes.
+  std::string bytes() const;
   /// Throws IoError naming the file for a wrong magic, truncation or inconsistent sizes.
   static VisibilityTally read(const std::string& path);
   /// The same from bytes in memory; `path` names them in errors.
