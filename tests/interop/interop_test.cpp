@@ -48,6 +48,13 @@ std::vector<float> bunny_visibility(const Mesh& mesh) {
   return compute_visibility(mesh, octahedron_cameras(1), *renderer).face;
 }
 
+// visimp's own VG run on `in` with V as its face quality: what simplify_in_place must equal.
+Simplified visimp_vg(Mesh in, const std::vector<float>& v, SimplifyOptions options) {
+  options.face_visibility = v;
+  in.face_quality = v;
+  return simplify(in, options);
+}
+
 // Three triangles on one edge: neither structure can hold the third.
 Mesh fin() {
   Mesh m;
@@ -119,11 +126,7 @@ TEST(OpenMeshAdapter, CarriesVisibilityAndSimplifiesInPlaceLikeVisimp) {
   options.method = SimplifyMethod::vg;
   const SimplifyResult result = interop::simplify_in_place(om, options);
   // The same as visimp's own VG run on the same mesh and V, face for face.
-  SimplifyOptions direct = options;
-  direct.face_visibility = v;
-  Mesh reference_input = in;
-  reference_input.face_quality = v;
-  const Simplified reference = simplify(reference_input, direct);
+  const Simplified reference = visimp_vg(in, v, options);
   EXPECT_EQ(result.faces_out, reference.mesh.num_faces());
   const Mesh out = interop::from_openmesh(om);
   expect_same(out, reference.mesh);
@@ -174,11 +177,7 @@ TEST(CgalAdapter, CarriesVisibilityAndSimplifiesInPlaceLikeVisimp) {
   options.target_ratio = 0.25;
   options.method = SimplifyMethod::vg;
   interop::simplify_in_place(sm, options);
-  SimplifyOptions direct = options;
-  direct.face_visibility = v;
-  Mesh reference_input = in;
-  reference_input.face_quality = v;
-  const Simplified reference = simplify(reference_input, direct);
+  const Simplified reference = visimp_vg(in, v, options);
   const Mesh out = interop::from_cgal(sm);
   expect_same(out, reference.mesh);
   EXPECT_EQ(out.face_quality, reference.mesh.face_quality);

@@ -8,10 +8,12 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh.h"
+#include "visimp/interop/simplify_converted.h"
 #include "visimp/simplify/simplify.h"
 
 namespace visimp::interop {
@@ -105,12 +107,7 @@ set_visibility_map(CGAL::Surface_mesh<Point>& sm, const std::vector<float>& face
 template <class Point>
 SimplifyResult simplify_in_place(CGAL::Surface_mesh<Point>& sm, SimplifyOptions options,
                                  const std::string& visibility = kCgalVisibility) {
-  const Mesh in = from_cgal(sm, visibility);
-  if (options.method == SimplifyMethod::vg && options.face_visibility.empty()) {
-    if (!in.has_face_quality()) throw UsageError("simplify_in_place: VG needs the face map " + visibility);
-    options.face_visibility = in.face_quality;
-  }
-  Simplified s = simplify(in, options);
+  const Simplified s = simplify_converted(from_cgal(sm, visibility), std::move(options), visibility);
   to_cgal(s.mesh, sm, nullptr, visibility);
   return s.result;
 }

@@ -9,10 +9,12 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh.h"
+#include "visimp/interop/simplify_converted.h"
 #include "visimp/simplify/simplify.h"
 
 namespace visimp::interop {
@@ -101,12 +103,7 @@ OpenMesh::FPropHandleT<float> set_visibility_property(OMesh& om, const std::vect
 template <class OMesh>
 SimplifyResult simplify_in_place(OMesh& om, SimplifyOptions options,
                                  const std::string& visibility = kOpenMeshVisibility) {
-  const Mesh in = from_openmesh(om, visibility);
-  if (options.method == SimplifyMethod::vg && options.face_visibility.empty()) {
-    if (!in.has_face_quality()) throw UsageError("simplify_in_place: VG needs the face property " + visibility);
-    options.face_visibility = in.face_quality;
-  }
-  Simplified s = simplify(in, options);
+  const Simplified s = simplify_converted(from_openmesh(om, visibility), std::move(options), visibility);
   to_openmesh(s.mesh, om, nullptr, visibility);
   return s.result;
 }
