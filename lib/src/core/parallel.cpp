@@ -51,7 +51,14 @@ void parallel_for(std::size_t first, std::size_t last, unsigned workers,
     std::unique_lock<std::mutex> lock(mutex);
     while (done < total && !failed) {
       finished.wait_for(lock, std::chrono::milliseconds(100));
-      progress(static_cast<double>(done) / static_cast<double>(total));
+      // A progress callback may throw to cancel (the Python module does on Ctrl-C): stop the
+      // workers and rethrow after joining them, as for a failing job.
+      try {
+        progress(static_cast<double>(done) / static_cast<double>(total));
+      } catch (...) {
+        if (!error) error = std::current_exception();
+        failed = true;
+      }
     }
   }
   for (std::thread& t : threads) t.join();

@@ -12,7 +12,9 @@ namespace visimp {
 unsigned worker_count(unsigned threads, std::size_t jobs);
 
 /// Runs `job(worker, item)` for items [first, last) on `workers` threads. When `progress` is
-/// set, the calling thread reports the finished share (0..1) to it about ten times a second.
+/// set, the calling thread reports the finished share (0..1) to it about ten times a second;
+/// if it throws, the workers stop after their current item and the exception is rethrown
+/// (how a front end cancels a long run).
 void parallel_for(std::size_t first, std::size_t last, unsigned workers,
                   const std::function<void(unsigned worker, std::size_t item)>& job,
                   const std::function<void(double done)>& progress = {});

@@ -1,0 +1,46 @@
+// The worker pool: every item runs once, a failing job stops the run, and a progress callback
+// that throws cancels it (the Python module's Ctrl-C) instead of terminating the process.
+#include "visimp/core/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace visimp {
+namespace {
+
+TEST(Parallel, EveryItemRunsExactlyOnce) {
+  std::vector<std::atomic<int>> runs(1000);
+  parallel_for(0, runs.size(), 2, [&](unsigned, std::size_t item) { ++runs[item]; });
+  for (const auto& r : runs) EXPECT_EQ(r.load(), 1);
+}
+
+TEST(Parallel, AFailingJobIsRethrownOnTheCaller) {
+  EXPECT_THROW(parallel_for(0, 100, 2,
+                            [](unsigned, std::size_t item) {
+                              if (item == 7) throw std::runtime_error("item 7");
+                            }),
+               std::runtime_error);
+}
+
+TEST(Parallel, AThrowingProgressCallbackCancelsTheRun) {
+  struct Cancelled {};
+  std::atomic<std::size_t> ran{0};
+  const std::size_t items = 100'000;  // 1 ms each: far longer than the first report (100 ms)
+  EXPECT_THROW(parallel_for(
+                   0, items, 2,
+                   [&](unsigned, std::size_t) {
+                     std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                     ++ran;
+                   },
+                   [](double) { throw Cancelled{}; }),
+               Cancelled);
+  EXPECT_LT(ran.load(), items / 10);
+}
+
+}  // namespace
+}  // namespace visimp
