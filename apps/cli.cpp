@@ -181,7 +181,7 @@ std::optional<Format> chosen_format(const std::string& specific, const std::stri
   const std::string& name = specific.empty() ? general : specific;
   if (name.empty()) return std::nullopt;
   const auto f = parse_format(name);
-  if (!f) throw UsageError("unknown format '" + name + "' (use ply, obj, off or stl)");
+  if (!f) throw UsageError("unknown format '" + name + "' (use ply, obj, off or stl; gltf, glb, 3mf, dae, fbx or x3d to read)");
   return f;
 }
 }  // namespace
@@ -225,7 +225,8 @@ void write_output(const Mesh& mesh, const std::string& path, const std::string& 
   w.binary = !o.ascii;
   w.source_face = source_face;
   std::optional<Format> format = chosen_format(o.output_format, o.format);
-  if (!format && path == "-" && o.input_choice) format = o.input_choice->format;  // stdout: as the input came
+  // stdout: as the input came, or PLY when that format is read-only (a glb from stdin).
+  if (!format && path == "-" && o.input_choice) format = is_writable(o.input_choice->format) ? o.input_choice->format : Format::ply;
   write_mesh(mesh, path, format, w);
 }
 

@@ -58,6 +58,20 @@ def test_read_mesh_matches_the_app_counts(bunny):
     assert (len(V), len(F)) == (info["vertices"], info["faces"])
 
 
+ASSIMP_MODELS = "/usr/share/assimp/models"
+
+
+@pytest.mark.skipif(not os.path.isdir(ASSIMP_MODELS), reason="assimp-testmodels is not installed")
+def test_scene_formats_read_and_refuse_to_be_written(tmp_path):
+    V, F = visimp.read_mesh(os.path.join(ASSIMP_MODELS, "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"))
+    assert V.shape == (8, 3) and F.shape == (12, 3)  # welded, as the app reads it
+    with pytest.raises(OSError, match="dropped"):
+        visimp.read_mesh(os.path.join(ASSIMP_MODELS, "glTF2/IndexOutOfRange/IndexOutOfRange.gltf"))
+    with pytest.raises(ValueError, match="does not write"):
+        visimp.write_mesh(str(tmp_path / "box.glb"), V, F)
+    assert not (tmp_path / "box.glb").exists()
+
+
 def test_face_quality_round_trips_through_ply(tmp_path, bunny):
     V, F = bunny
     q = np.linspace(0, 1, len(F), dtype=np.float32)

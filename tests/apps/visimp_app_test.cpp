@@ -219,6 +219,35 @@ TEST_F(App, ConvertRoundTripsEveryFormat) {
   }
 }
 
+// Scene formats through assimp (Debian's assimp-testmodels): read everywhere a mesh is read,
+// from a file or from stdin; refused as outputs (exit 2, nothing written); a scene assimp would
+// read only in part is bad input (exit 1), one line naming the file.
+TEST_F(App, ReadsSceneFormatsAndRefusesToWriteThem) {
+  const std::string models = "/usr/share/assimp/models/";
+  if (!std::filesystem::exists(models + "glTF2")) GTEST_SKIP() << "assimp-testmodels is not installed";
+  const std::string glb = models + "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+  AppRun r = run("info " + glb + " --json --no-visibility", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"faces\": 121496"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"input_format\": \"glb\""), std::string::npos) << r.out;
+  r = run("convert - " + dir + "/duck.ply", dir, models + "Collada/duck.dae");  // stdin: the content decides
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_mesh(dir + "/duck.ply").num_faces(), 4212u);
+  r = run("simplify " + models + "Collada/duck.dae " + dir + "/duck.obj --target 1000 --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_mesh(dir + "/duck.obj").num_faces(), 1000u);
+  r = run("convert " + bunny + " " + dir + "/bunny.glb", dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("does not write"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bunny.glb"));
+  const std::string broken = models + "glTF2/IndexOutOfRange/IndexOutOfRange.gltf";
+  r = run("convert " + broken + " " + dir + "/broken.ply", dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(broken), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/broken.ply"));
+}
+
 TEST_F(App, VisibilityWritesQualityJsonAndAPicture) {
   const AppRun r = run(
       "visibility " + bunny + " " + dir + "/v.ply --cameras 66 --resolution 200 --png " + dir + "/v.png --json", dir);

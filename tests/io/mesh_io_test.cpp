@@ -191,7 +191,9 @@ TEST(MeshIo, FailedWriteKeepsTheOldFile) {
 TEST(MeshIo, FormatFromPath) {
   EXPECT_EQ(format_from_path("a/b.PLY"), Format::ply);
   EXPECT_EQ(format_from_path("x.stl"), Format::stl);
-  EXPECT_THROW(format_from_path("x.dae"), UsageError);
+  EXPECT_EQ(format_from_path("x.DAE"), Format::collada);
+  EXPECT_EQ(format_from_path("x.glb"), Format::glb);
+  EXPECT_THROW(format_from_path("x.blend"), UsageError);
   EXPECT_THROW(format_from_path("noext"), UsageError);
 }
 

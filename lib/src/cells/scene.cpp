@@ -57,24 +57,11 @@ std::size_t Scene::face_count() const {
 
 namespace {
 
-bool is_obj(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".obj";
-}
-
 Scene mesh_as_scene(const std::string& path) {
-  // An OBJ with more than one o/g group: the groups are the objects. Otherwise the connected
-  // components (over shared vertices) are.
-  ObjGroups groups;
-  Mesh mesh;
-  if (is_obj(path)) {
-    mesh = read_obj(read_file_bytes(path), path, &groups);
-    const ValidationReport report = validate(mesh);
-    if (!report.ok()) throw IoError(path, report.first_problem);
-  } else {
-    mesh = read_mesh(path);
-  }
+  // A file with more than one group (OBJ o/g, a scene file's nodes): the groups are the
+  // objects. Otherwise the connected components (over shared vertices) are.
+  FaceGroups groups;
+  const Mesh mesh = read_mesh_with_groups(path, groups);
   const bool by_group = groups.names.size() > 1;
   Scene scene;
   scene.mesh_paths.push_back(path);

@@ -17,6 +17,7 @@
 #include "visimp/io/obj.h"
 #include "visimp/io/off.h"
 #include "visimp/io/ply.h"
+#include "visimp/io/scene_formats.h"
 #include "visimp/io/stl.h"
 
 namespace visimp {
@@ -29,8 +30,16 @@ std::optional<Format> parse_format(std::string_view name) {
   if (lower == "obj") return Format::obj;
   if (lower == "off") return Format::off;
   if (lower == "stl") return Format::stl;
+  if (lower == "gltf") return Format::gltf;
+  if (lower == "glb") return Format::glb;
+  if (lower == "3mf") return Format::threemf;
+  if (lower == "dae" || lower == "collada") return Format::collada;
+  if (lower == "fbx") return Format::fbx;
+  if (lower == "x3d") return Format::x3d;
   return std::nullopt;
 }
+
+bool is_writable(Format format) { return !is_scene_format(format); }
 
 const char* format_name(Format format) {
   switch (format) {
@@ -42,6 +51,18 @@ const char* format_name(Format format) {
       return "off";
     case Format::stl:
       return "stl";
+    case Format::gltf:
+      return "gltf";
+    case Format::glb:
+      return "glb";
+    case Format::threemf:
+      return "3mf";
+    case Format::collada:
+      return "dae";
+    case Format::fbx:
+      return "fbx";
+    case Format::x3d:
+      return "x3d";
   }
   return "?";
 }
@@ -69,7 +90,21 @@ std::string read_file_bytes(const std::string& path) {
   return bytes;
 }
 
+namespace {
+
+Mesh validated(Mesh mesh, const std::string& name) {
+  const ValidationReport report = validate(mesh);
+  if (!report.ok()) throw IoError(name, report.first_problem);
+  return mesh;
+}
+
+}  // namespace
+
 Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::string& name) {
+  return read_mesh_from_bytes(bytes, format, name, nullptr);
+}
+
+Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::string& name, FaceGroups* groups) {
   if (bytes.empty()) throw IoError(name, "file is empty");
   Mesh mesh;
   switch (format) {
@@ -77,7 +112,8 @@ Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::stri
       mesh = read_ply(bytes, name);
       break;
     case Format::obj:
-      mesh = read_obj(bytes, name);
+      mesh = read_obj(bytes, name, groups);
+      groups = nullptr;  // read_obj filled them
       break;
     case Format::off:
       mesh = read_off(bytes, name);
@@ -85,10 +121,18 @@ Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::stri
     case Format::stl:
       mesh = read_stl(bytes, name);
       break;
+    case Format::gltf:
+    case Format::glb:
+    case Format::threemf:
+    case Format::collada:
+    case Format::fbx:
+    case Format::x3d:
+      mesh = read_scene_bytes(bytes, format, name, groups);
+      groups = nullptr;
+      break;
   }
-  const ValidationReport report = validate(mesh);
-  if (!report.ok()) throw IoError(name, report.first_problem);
-  return mesh;
+  if (groups != nullptr) *groups = {{""}, std::vector<std::uint32_t>(mesh.num_faces(), 0)};
+  return validated(std::move(mesh), name);
 }
 
 Mesh read_mesh(std::istream& in, Format format, const std::string& name) {
@@ -126,10 +170,33 @@ bool is_off_keyword(std::string_view t) {
   return true;
 }
 
+// The root element of an XML document, when `head` is one: "<COLLADA" or "<X3D" after the
+// prolog (<?xml ...?>, comments, a DOCTYPE).
+bool xml_root_is(std::string_view head, std::string_view element) {
+  if (head.substr(0, 3) == "\xEF\xBB\xBF") head.remove_prefix(3);  // UTF-8 byte-order mark
+  std::size_t i = 0;
+  while (i < head.size()) {
+    while (i < head.size() && is_space(head[i])) ++i;
+    if (i >= head.size() || head[i] != '<') return false;
+    if (head.substr(i, 2) == "<?" || head.substr(i, 2) == "<!") {  // prolog, comment, DOCTYPE
+      const std::size_t end = head.find('>', i);
+      if (end == std::string_view::npos) return false;
+      i = end + 1;
+      continue;
+    }
+    const std::string_view tag = head.substr(i + 1, element.size());
+    const std::size_t after = i + 1 + element.size();
+    return tag == element && after < head.size() && (is_space(head[after]) || head[after] == '>');
+  }
+  return false;
+}
+
 }  // namespace
 
 std::optional<Format> detect_format(std::string_view bytes) {
   if (bytes.size() >= 4 && bytes.substr(0, 3) == "ply" && (bytes[3] == '\n' || bytes[3] == '\r')) return Format::ply;
+  if (bytes.size() >= 12 && bytes.substr(0, 4) == "glTF") return Format::glb;
+  if (bytes.substr(0, 18) == "Kaydara FBX Binary") return Format::fbx;
   if (bytes.size() >= 84) {
     std::uint32_t triangles = 0;
     std::memcpy(&triangles, bytes.data() + 80, 4);  // little-endian, as STL is
@@ -142,10 +209,15 @@ std::optional<Format> detect_format(std::string_view bytes) {
   for (const char* keyword : {"v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s", "mtllib", "usemtl"}) {
     if (token == keyword) return Format::obj;
   }
+  if (xml_root_is(head, "COLLADA")) return Format::collada;
+  if (xml_root_is(head, "X3D")) return Format::x3d;
+  if (token.substr(0, 1) == "{" && head.find("\"asset\"") != std::string_view::npos) return Format::gltf;
   return std::nullopt;
 }
 
-Mesh read_mesh(const std::string& path, std::optional<Format> format, FormatChoice* choice) {
+namespace {
+
+Mesh read_any(const std::string& path, std::optional<Format> format, FormatChoice* choice, FaceGroups* groups) {
   const std::string name = path == "-" ? std::string("<stdin>") : path;
   const std::string bytes = read_file_bytes(path);
   FormatChoice chosen;
@@ -172,15 +244,30 @@ Mesh read_mesh(const std::string& path, std::optional<Format> format, FormatChoi
       throw IoError(name, "file is empty");
     } else {
       throw IoError(name, (ext.empty() ? std::string("no extension") : "unknown extension '" + ext + "'") +
-                              ", and the content is none of PLY, OBJ, OFF or STL (name the format explicitly)");
+                              ", and the content is none of PLY, OBJ, OFF, STL, glTF, GLB, FBX, COLLADA or X3D (name the format explicitly)");
     }
   }
   if (choice != nullptr) *choice = chosen;
-  if (!chosen.detected) return read_mesh_from_bytes(bytes, chosen.format, name);
+  // A scene file is read by assimp from its path, so a .gltf finds the buffers beside it.
+  if (is_scene_format(chosen.format) && path != "-" && !bytes.empty()) {
+    Mesh mesh = read_scene_file(path, chosen.format, groups);
+    return validated(std::move(mesh), name);
+  }
+  if (!chosen.detected) return read_mesh_from_bytes(bytes, chosen.format, name, groups);
   // Say which reader the content chose, or the error would puzzle ("x.obj: not a PLY ...").
   std::string upper = format_name(chosen.format);
   for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return read_mesh_from_bytes(bytes, chosen.format, name + " (" + upper + " by its content)");
+  return read_mesh_from_bytes(bytes, chosen.format, name + " (" + upper + " by its content)", groups);
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::string& path, std::optional<Format> format, FormatChoice* choice) {
+  return read_any(path, format, choice, nullptr);
+}
+
+Mesh read_mesh_with_groups(const std::string& path, FaceGroups& groups, std::optional<Format> format) {
+  return read_any(path, format, nullptr, &groups);
 }
 
 void write_mesh(const Mesh& mesh, std::ostream& out, Format format, const WriteOptions& options) {
@@ -197,6 +284,14 @@ void write_mesh(const Mesh& mesh, std::ostream& out, Format format, const WriteO
     case Format::stl:
       write_stl(mesh, out, options.binary);
       break;
+    case Format::gltf:
+    case Format::glb:
+    case Format::threemf:
+    case Format::collada:
+    case Format::fbx:
+    case Format::x3d:
+      throw UsageError(std::string("visimp reads ") + format_name(format) +
+                       " but does not write it (write .ply, .obj, .off or .stl)");
   }
 }
 
@@ -204,6 +299,8 @@ void write_mesh(const Mesh& mesh, const std::string& path, std::optional<Format>
   require_valid(mesh, path);
   if (path == "-" && !format) throw UsageError("writing standard output needs an explicit format");
   const Format f = format ? *format : format_from_path(path);
+  if (!is_writable(f))
+    throw UsageError(path + ": visimp reads " + format_name(f) + " but does not write it (write .ply, .obj, .off or .stl)");
   if (path == "-") {
     write_mesh(mesh, std::cout, f, options);
     std::cout.flush();

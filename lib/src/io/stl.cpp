@@ -2,44 +2,16 @@
 
 #include <cstring>
 #include <ostream>
-#include <unordered_map>
 #include <vector>
 
+#include "exact_welder.h"
 #include "text_scanner.h"
 #include "visimp/core/errors.h"
 
 namespace visimp {
 namespace {
 
-struct Vec3Hash {
-  std::size_t operator()(const Vec3& p) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (int k = 0; k < 3; ++k) {
-      std::uint64_t bits;
-      const double v = p[k] == 0.0 ? 0.0 : p[k];  // +0 and -0 weld together
-      std::memcpy(&bits, &v, sizeof bits);
-      h = (h ^ bits) * 1099511628211ull;
-    }
-    return static_cast<std::size_t>(h ^ (h >> 29));
-  }
-};
-
-class Welder {
- public:
-  explicit Welder(Mesh& mesh) : mesh_(mesh) {}
-  VertexIndex add(Vec3 p) {
-    if (p.x == 0) p.x = 0;
-    if (p.y == 0) p.y = 0;
-    if (p.z == 0) p.z = 0;
-    const auto [it, inserted] = index_.try_emplace(p, static_cast<VertexIndex>(mesh_.positions.size()));
-    if (inserted) mesh_.positions.push_back(p);
-    return it->second;
-  }
-
- private:
-  Mesh& mesh_;
-  std::unordered_map<Vec3, VertexIndex, Vec3Hash> index_;
-};
+using Welder = detail::ExactWelder;
 
 bool looks_ascii(std::string_view bytes) {
   if (bytes.substr(0, 5) != "solid") return false;

@@ -6,9 +6,10 @@
 //                 "transform": [16 numbers, row-major, last row 0 0 0 1]}]}
 //
 // Mesh paths are relative to the scene file's directory; the same path may be placed many
-// times (instances share one read). A PLY, OBJ, OFF or STL file also reads as a scene: its
-// connected components are the objects, with identity transforms — or, for an OBJ with more
-// than one `o`/`g` group, its groups, named as in the file.
+// times (instances share one read). A mesh file also reads as a scene: its connected
+// components are the objects, with identity transforms — or, for a file with more than one
+// group (an OBJ's `o`/`g` groups, the nodes of a glTF, 3MF, COLLADA, FBX or X3D scene), its
+// groups, named as in the file.
 #pragma once
 
 #include <array>

@@ -1,18 +1,15 @@
-// Mesh file I/O: a dispatcher over one reader/writer per format (ply.h, obj.h, off.h, stl.h).
+// Mesh file I/O: a dispatcher over one reader/writer per format (ply.h, obj.h, off.h, stl.h,
+// and scene_formats.h for the formats read through assimp).
 //
-// Capability table (what a round trip through each format keeps):
-//
-// | format | read                         | write             | shared vertices | vertex quality | face quality |
-// isolated vertices |
-// |--------|------------------------------|-------------------|-----------------|----------------|--------------|-------------------|
-// | PLY    | ascii, binary LE/BE, any     | binary LE, ascii  | yes             | yes            | yes          | yes |
-// |        | scalar type, extra props     |                   |                 |                |              | | |
-// | and elements skipped         |                   |                 |                |              | | | OBJ    |
-// v, f (a, a/b, a//c, a/b/c,   | v, f              | yes             | no             | no           | yes | |        |
-// negative indices)            |                   |                 |                |              | | | OFF    |
-// OFF/COFF/NOFF headers,       | OFF               | yes             | no             | no           | yes | |        |
-// colours skipped              |                   |                 |                |              | | | STL    |
-// binary, ascii                | binary, ascii     | welded on read  | no             | no           | no |
+// What each format reads, writes and keeps:
+//   PLY   read ascii, binary LE/BE, any scalar type (extra properties and elements skipped);
+//         write binary LE or ascii; keeps shared and isolated vertices, vertex and face quality.
+//   OBJ   read v, f (a, a/b, a//c, a/b/c, negative indices), o/g groups; write v, f;
+//         keeps shared and isolated vertices.
+//   OFF   read OFF/COFF/NOFF headers (colours skipped); write OFF; keeps shared and isolated vertices.
+//   STL   read and write binary or ascii; vertices welded on read (exact coordinates).
+//   glTF 2.0 (.gltf, .glb), 3MF, COLLADA (.dae), FBX, X3D: read only, through assimp; nodes
+//         flattened with their transforms, welded per node as STL is; one group per node.
 //
 // Polygons with more than 3 vertices are fan-triangulated on read; a face with fewer than 3
 // vertices is an error (never silently dropped). Every reader throws IoError naming the file
@@ -28,10 +25,16 @@
 #include <vector>
 
 #include "visimp/core/mesh.h"
+#include "visimp/io/face_groups.h"
 
 namespace visimp {
 
-enum class Format { ply, obj, off, stl };
+/// ply, obj, off and stl are read and written by visimp's own readers and writers; the rest
+/// are scene formats read through assimp (scene_formats.h), never written.
+enum class Format { ply, obj, off, stl, gltf, glb, threemf, collada, fbx, x3d };
+
+/// False for the read-only scene formats.
+bool is_writable(Format format);
 
 struct WriteOptions {
   /// PLY and STL: binary (little-endian) when true, ASCII when false. Ignored by OBJ/OFF.
@@ -44,16 +47,20 @@ struct WriteOptions {
   const std::vector<std::uint32_t>* source_face = nullptr;
 };
 
-/// "ply", "obj", "off", "stl" (case-insensitive); nullopt otherwise.
+/// "ply", "obj", "off", "stl", "gltf", "glb", "3mf", "dae" (or "collada"), "fbx", "x3d"
+/// (case-insensitive); nullopt otherwise.
 std::optional<Format> parse_format(std::string_view name);
 const char* format_name(Format format);
 /// The format implied by a path's extension; throws UsageError when it has none we know.
 Format format_from_path(const std::string& path);
 
-/// The format the first bytes announce, or nullopt when they match none. The four formats
-/// are told apart without ambiguity: "ply" on the first line; an OFF keyword ([ST][C][N][4]OFF)
-/// as the first token; a binary STL's size, 84 + 50 × its triangle count; "solid" followed by
-/// "facet"; an OBJ keyword (v, vt, vn, f, o, g, ...) opening the first line that is not a comment.
+/// The format the first bytes announce, or nullopt when they match none. The formats are told
+/// apart without ambiguity: "ply" on the first line; an OFF keyword ([ST][C][N][4]OFF) as the
+/// first token; a binary STL's size, 84 + 50 × its triangle count; "solid" followed by
+/// "facet"; an OBJ keyword (v, vt, vn, f, o, g, ...) opening the first line that is not a
+/// comment; "glTF" (binary glTF's magic); "Kaydara FBX Binary"; an XML root element
+/// <COLLADA or <X3D; a JSON object with an "asset" member in its first 4 KiB (a .gltf: glTF 2.0
+/// requires "asset"). A 3MF (a zip) is known by its extension only.
 std::optional<Format> detect_format(std::string_view bytes);
 
 /// How read_mesh chose the format of a file.
@@ -64,6 +71,10 @@ struct FormatChoice {
   bool detected = false;
 };
 
+/// Reads a mesh and the object each face belongs to: OBJ `o`/`g` groups, a scene file's nodes;
+/// one group ("") for PLY, OFF and STL.
+Mesh read_mesh_with_groups(const std::string& path, FaceGroups& groups, std::optional<Format> format = std::nullopt);
+
 /// Reads a mesh file. Without an explicit format the extension decides, unless the content
 /// announces another format (then the content wins) or the path has none (stdin "-", no
 /// extension): then the content decides. Throws IoError (unreadable, malformed, no format
@@ -71,6 +82,8 @@ struct FormatChoice {
 Mesh read_mesh(const std::string& path, std::optional<Format> format = std::nullopt, FormatChoice* choice = nullptr);
 /// Reads from memory or a stream; `name` is used in error messages.
 Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::string& name);
+/// The same, also reporting each face's group (as read_mesh_with_groups).
+Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::string& name, FaceGroups* groups);
 Mesh read_mesh(std::istream& in, Format format, const std::string& name);
 
 /// Writes a mesh atomically: to a temporary file beside `path`, renamed into place only after

@@ -11,16 +11,14 @@
 #include <cstdint>
 
 #include "visimp/core/mesh.h"
+#include "visimp/io/face_groups.h"
 
 namespace visimp {
 
 Mesh read_obj(std::string_view text, const std::string& name);
 
 /// The group of every face: the latest `o` or `g` line before it ("" before any).
-struct ObjGroups {
-  std::vector<std::string> names;          ///< in order of first use
-  std::vector<std::uint32_t> face_group;   ///< per output face (after triangulation), into names
-};
+using ObjGroups = FaceGroups;
 Mesh read_obj(std::string_view text, const std::string& name, ObjGroups* groups);
 void write_obj(const Mesh& mesh, std::ostream& out);
 
