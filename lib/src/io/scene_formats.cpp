@@ -29,25 +29,6 @@ constexpr unsigned kImportFlags = aiProcess_Triangulate | aiProcess_SortByPType 
 // Deeper than this is a malformed (or hostile) file, not a scene: no stack grows without bound.
 constexpr int kMaxNodeDepth = 1000;
 
-const char* extension_hint(Format format) {
-  switch (format) {
-    case Format::gltf:
-      return "gltf";
-    case Format::glb:
-      return "glb";
-    case Format::threemf:
-      return "3mf";
-    case Format::collada:
-      return "dae";
-    case Format::fbx:
-      return "fbx";
-    case Format::x3d:
-      return "x3d";
-    default:
-      return "";
-  }
-}
-
 void configure(Assimp::Importer& importer) {
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
@@ -301,7 +282,19 @@ Mesh import_isolated(Import&& import_and_flatten, std::size_t input_bytes, const
 
 }  // namespace
 
-bool is_scene_format(Format format) { return *extension_hint(format) != '\0'; }
+bool is_scene_format(Format format) {
+  switch (format) {
+    case Format::gltf:
+    case Format::glb:
+    case Format::threemf:
+    case Format::collada:
+    case Format::fbx:
+    case Format::x3d:
+      return true;
+    default:
+      return false;
+  }
+}
 
 Mesh read_scene_file(const std::string& path, Format format, FaceGroups* groups) {
   std::error_code ec;
@@ -323,7 +316,7 @@ Mesh read_scene_bytes(std::string_view bytes, Format format, const std::string& 
         Assimp::Importer importer;
         configure(importer);
         const aiScene* scene = import_listening(
-            [&] { return importer.ReadFileFromMemory(bytes.data(), bytes.size(), kImportFlags, extension_hint(format)); },
+            [&] { return importer.ReadFileFromMemory(bytes.data(), bytes.size(), kImportFlags, format_name(format)); },
             name);
         return imported(importer, scene, format, name, &found);
       },
