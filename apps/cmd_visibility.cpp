@@ -165,7 +165,10 @@ int run_visibility(const Args& args, CameraSplit* split) {
     json.key("seconds")
         .begin_object()
         .field("read", read_seconds)
+        .field("prepare", s.seconds_prepare)
+        .field("orient", s.seconds_orient)
         .field("refine", s.seconds_refine)
+        .field("scene", s.seconds_scene)
         .field("render", render_seconds)
         .field("aggregate", s.seconds_aggregate)
         .field("png", png_seconds)
@@ -177,7 +180,7 @@ int run_visibility(const Args& args, CameraSplit* split) {
     report << in << ": ";
     if (visibility) report << "V(M) = " << visibility->mesh << ", ";
     report << s.input_faces << " faces (" << s.refined_faces << " after refinement), cameras " << first << ".." << last
-           << " of " << cameras.size() << ", refine " << s.seconds_refine << " s, render " << render_seconds << " s\n";
+           << " of " << cameras.size() << ", prepare " << s.seconds_prepare << " s, render " << render_seconds << " s\n";
   }
   return 0;
 }

@@ -101,7 +101,8 @@ py::dict stats_dict(const VisibilityStats& s) {
                   "two_sided_faces"_a = s.two_sided_faces, "seen_from_behind"_a = s.seen_from_behind,
                   "degenerate_faces"_a = s.degenerate_faces, "unfaced_faces"_a = s.unfaced_faces,
                   "hidden_faces"_a = s.hidden_faces, "hidden_area_fraction"_a = s.hidden_area_fraction,
-                  "seconds_refine"_a = s.seconds_refine, "seconds_render"_a = s.seconds_render,
+                  "seconds_prepare"_a = s.seconds_prepare, "seconds_orient"_a = s.seconds_orient,
+                  "seconds_refine"_a = s.seconds_refine, "seconds_scene"_a = s.seconds_scene, "seconds_render"_a = s.seconds_render,
                   "seconds_aggregate"_a = s.seconds_aggregate, "seconds"_a = s.seconds_total);
 }
 

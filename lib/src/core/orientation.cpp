@@ -3,19 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "visimp/core/bounding_box.h"
 
 namespace visimp {
 namespace {
-
-struct DirectedEdge {
-  std::uint64_t key;     // (min << 32) | max
-  std::uint32_t corner;  // face * 3 + k: the corner where the face's run of the edge starts
-  bool forward;          // the face runs the edge from min to max
-  std::uint32_t face_of() const { return corner / 3; }
-  bool operator<(const DirectedEdge& o) const { return key < o.key || (key == o.key && corner < o.corner); }
-};
 
 bool has_repeated_index(const Face& f) { return f[0] == f[1] || f[1] == f[2] || f[0] == f[2]; }
 
@@ -29,35 +22,62 @@ Face canonical_face(const Face& face, bool reversed) {
 
 OrientationPatches orientation_patches(const Mesh& mesh) {
   const std::size_t nf = mesh.num_faces();
-  std::vector<DirectedEdge> edges;
-  edges.reserve(nf * 3);
+  // Each edge's corners bucketed by its lower vertex (a counting sort: linear, where sorting
+  // all 3·F directed edges took seconds at 14M faces); within a bucket corners ascend.
+  auto corner_edge = [&](std::uint32_t corner) {
+    const Face& face = mesh.faces[corner / 3];
+    const int k = static_cast<int>(corner % 3);
+    return std::pair<VertexIndex, VertexIndex>{face[k], face[(k + 1) % 3]};
+  };
+  std::vector<std::uint32_t> first(mesh.num_vertices() + 1, 0);
   for (std::uint32_t f = 0; f < nf; ++f) {
     const Face& face = mesh.faces[f];
     if (has_repeated_index(face)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const VertexIndex a = face[k], b = face[(k + 1) % 3];
-      const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
-      edges.push_back({(lo << 32) | hi, static_cast<std::uint32_t>(3 * f + k), a < b});
+    for (int k = 0; k < 3; ++k) ++first[std::min(face[k], face[(k + 1) % 3]) + 1];
+  }
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) first[v + 1] += first[v];
+  struct Incidence {
+    VertexIndex upper;     // the edge's higher vertex
+    std::uint32_t corner;  // face * 3 + k: the corner where the face's run of the edge starts
+  };
+  std::vector<Incidence> bucketed(first.back());
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const Face& face = mesh.faces[f];
+      if (has_repeated_index(face)) continue;
+      for (int k = 0; k < 3; ++k) {
+        const VertexIndex a = face[k], b = face[(k + 1) % 3];
+        bucketed[fill[std::min(a, b)]++] = {std::max(a, b), static_cast<std::uint32_t>(3 * f + k)};
+      }
     }
   }
-  std::sort(edges.begin(), edges.end());
 
   // Across each manifold edge, the corner of the other face that starts it, with the top
   // bit set when both faces run the edge the same way (one must be reversed to agree).
   // kOpen marks a corner on a boundary or non-manifold edge.
   constexpr std::uint32_t kOpen = 0xffffffffu, kSame = 0x80000000u;
   std::vector<std::uint32_t> across(nf * 3, kOpen);
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    if (j - i == 2 && edges[i].face_of() != edges[i + 1].face_of()) {
-      const std::uint32_t same = edges[i].forward == edges[i + 1].forward ? kSame : 0u;
-      across[edges[i].corner] = edges[i + 1].corner | same;
-      across[edges[i + 1].corner] = edges[i].corner | same;
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+    const auto begin = bucketed.begin() + first[v], end = bucketed.begin() + first[v + 1];
+    std::sort(begin, end, [](const Incidence& x, const Incidence& y) {
+      return x.upper < y.upper || (x.upper == y.upper && x.corner < y.corner);
+    });
+    for (auto i = begin; i != end;) {
+      auto j = i;
+      while (j != end && j->upper == i->upper) ++j;
+      if (j - i == 2 && i->corner / 3 != (i + 1)->corner / 3) {
+        const bool forward_i = corner_edge(i->corner).first < corner_edge(i->corner).second;
+        const bool forward_next = corner_edge((i + 1)->corner).first < corner_edge((i + 1)->corner).second;
+        const std::uint32_t same = forward_i == forward_next ? kSame : 0u;
+        across[i->corner] = (i + 1)->corner | same;
+        across[(i + 1)->corner] = i->corner | same;
+      }
+      i = j;
     }
-    i = j;
   }
-  std::vector<DirectedEdge>().swap(edges);  // free before the walk
+  std::vector<Incidence>().swap(bucketed);  // free before the walk
+  std::vector<std::uint32_t>().swap(first);
 
   OrientationPatches out;
   constexpr std::uint32_t kNone = 0xffffffffu;

@@ -104,6 +104,9 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   for (std::size_t f = 0; f < input_faces; ++f) stats_.one_sided_faces += input_one_sided_[f];
   stats_.two_sided_faces = input_faces - stats_.one_sided_faces;
 
+  stats_.seconds_orient = seconds_since(start);
+
+  const auto refine_start = std::chrono::steady_clock::now();
   const BoundingBox box = bounding_box(mesh);
   const double radius = view_radius(box);
   stats_.max_edge_length = refinement_edge_length(radius, resolution, options.worst_view_cosine);
@@ -118,6 +121,9 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   auto parent_of = [&](std::size_t r) { return refined_ ? refined_->input_face[r] : r; };
   const std::size_t faces_rendered = refined_ ? refined_->mesh.num_faces() : input_faces;
   stats_.refined_faces = faces_rendered;
+  stats_.seconds_refine = seconds_since(refine_start);
+
+  const auto scene_start = std::chrono::steady_clock::now();
   // The scene holds the faces in spatial order, one-sided ones first (they may be culled),
   // and the vertices in order of first use.
   scene_order_ = spatial_face_order(rendered_mesh());
@@ -155,7 +161,8 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   }
   scene_.compute_normal_cones(unit_normals_);
   mesh_hash_ = hash_mesh(mesh);
-  stats_.seconds_refine = seconds_since(start);
+  stats_.seconds_scene = seconds_since(scene_start);
+  stats_.seconds_prepare = seconds_since(start);
 }
 
 TallyKey VisibilityJob::key(const CameraSet& cameras) const {

@@ -17,4 +17,7 @@ std::uint32_t morton_code(const Vec3& unit);
 /// (ties by index, so the order is deterministic).
 std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh);
 
+/// The vertices of `mesh` sorted by the Morton code of their positions (ties by index).
+std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh);
+
 }  // namespace visimp

@@ -76,7 +76,10 @@ struct VisibilityStats {
   std::size_t unfaced_faces = 0;     ///< no camera in front of them: V likewise from vertices
   std::size_t hidden_faces = 0;      ///< V = 0: no camera saw any part of them
   double hidden_area_fraction = 0;   ///< their share of the surface area
-  double seconds_refine = 0, seconds_render = 0, seconds_aggregate = 0, seconds_total = 0;
+  /// prepare = orient + refine + scene: winding patches, splitting long edges (or only
+  /// checking that none is long), and the render scene in spatial order.
+  double seconds_prepare = 0, seconds_orient = 0, seconds_refine = 0, seconds_scene = 0;
+  double seconds_render = 0, seconds_aggregate = 0, seconds_total = 0;
 };
 
 struct Visibility {
