@@ -14,10 +14,12 @@
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
+#include "visimp/core/spatial_order.h"
 #include "visimp/core/union_find.h"
 #include "visimp/core/validate.h"
 #include "visimp/simplify/quadric.h"
 #include "radix_heap.h"
+#include "vertex_face_lists.h"
 
 namespace visimp {
 
@@ -111,9 +113,9 @@ class CollapseEngine {
         cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)),
         prevent_folds_(options.prevent_folds) {
     const std::size_t nv = input.num_vertices();
+    reorder_spatially(input);
     positions_.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) positions_[v] = frame_.to_unit(input.positions[v]);
-    faces_ = input.faces;
+    for (std::size_t v = 0; v < nv; ++v) positions_[v] = frame_.to_unit(input.positions[input_vertex_[v]]);
     face_alive_.assign(faces_.size(), 1);
     faces_alive_ = faces_.size();
     // A face with a repeated index is a segment or a point: no area, no plane, no place in a
@@ -130,11 +132,13 @@ class CollapseEngine {
     flags_.assign(nv, kAlive);
     modified_.assign(nv, 0);
     mark_.assign(nv, 0);
-    origin_.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) origin_[v] = static_cast<std::int64_t>(v);
+    origin_ = input_vertex_;
     weighted_ = options.method == SimplifyMethod::vg;
     custom_cost_ = options.collapse_cost;
-    if (custom_cost_ != nullptr) vertex_weights_ = options.vertex_weights;
+    if (custom_cost_ != nullptr && !options.vertex_weights.empty()) {
+      vertex_weights_.resize(nv);
+      for (std::size_t v = 0; v < nv; ++v) vertex_weights_[v] = options.vertex_weights[input_vertex_[v]];
+    }
     quadrics_.assign(weighted_ ? 2 * nv : nv, Quadric{});
     build_vertex_faces();
     if (weighted_) compute_face_weights(options);
@@ -196,21 +200,30 @@ class CollapseEngine {
     next_report_ = faces_alive_ - std::min(faces_alive_, report_every_);
   }
 
+  // The mesh left, in the input's order: surviving vertices and faces in the order of their
+  // input indices (the engine's spatial order stays inside).
   Mesh extract() const {
     Mesh out;
-    std::vector<VertexIndex> remap(input_.num_vertices(), 0);
-    for (std::size_t v = 0; v < input_.num_vertices(); ++v) {
+    const std::size_t nv = input_.num_vertices();
+    std::vector<VertexIndex> engine_index(nv);
+    for (std::size_t v = 0; v < nv; ++v) engine_index[input_vertex_[v]] = static_cast<VertexIndex>(v);
+    std::vector<VertexIndex> remap(nv, 0);  // engine vertex -> output vertex
+    for (std::size_t i = 0; i < nv; ++i) {
+      const VertexIndex v = engine_index[i];
       if (!(flags_[v] & kAlive)) continue;
       remap[v] = static_cast<VertexIndex>(out.positions.size());
-      out.positions.push_back(origin_[v] >= 0 ? input_.positions[static_cast<std::size_t>(origin_[v])]
-                                              : frame_.from_unit(positions_[v]));
-      if (input_.has_vertex_quality()) out.vertex_quality.push_back(input_.vertex_quality[v]);
+      out.positions.push_back(origin_[v] != kNoOrigin ? input_.positions[origin_[v]] : frame_.from_unit(positions_[v]));
+      if (input_.has_vertex_quality()) out.vertex_quality.push_back(input_.vertex_quality[i]);
     }
+    std::vector<VertexIndex>().swap(engine_index);
+    std::vector<std::uint32_t> engine_face(faces_.size());
+    for (std::size_t f = 0; f < faces_.size(); ++f) engine_face[input_face_[f]] = static_cast<std::uint32_t>(f);
     out.faces.reserve(faces_alive_);
-    for (std::size_t f = 0; f < faces_.size(); ++f) {
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      const std::uint32_t f = engine_face[i];
       if (!face_alive_[f]) continue;
       out.faces.push_back({remap[faces_[f][0]], remap[faces_[f][1]], remap[faces_[f][2]]});
-      if (input_.has_face_quality()) out.face_quality.push_back(input_.face_quality[f]);
+      if (input_.has_face_quality()) out.face_quality.push_back(input_.face_quality[i]);
     }
     return out;
   }
@@ -223,34 +236,50 @@ class CollapseEngine {
   }
 
  private:
-  void build_vertex_faces() {
-    std::vector<std::uint32_t> degree(positions_.size(), 0);
-    for (const Face& f : faces_)
-      for (VertexIndex v : f) ++degree[v];
-    vertex_faces_.resize(positions_.size());
-    for (std::size_t v = 0; v < positions_.size(); ++v) vertex_faces_[v].reserve(degree[v]);
-    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
-      if (!face_alive_[f]) continue;
-      for (VertexIndex v : faces_[f]) vertex_faces_[v].push_back(f);
+  // Engine order: vertices along a Morton curve, faces by their first vertex in that order
+  // (a counting sort, stable in input order). Neighbours then sit close in every per-vertex
+  // and per-face array: on meshes whose input order has little locality (a subdivided or
+  // merged mesh) the collapse loop otherwise waits on memory.
+  void reorder_spatially(const Mesh& input) {
+    const std::size_t nv = input.num_vertices(), nf = input.num_faces();
+    input_vertex_ = spatial_vertex_order(input);
+    std::vector<VertexIndex> engine_index(nv);
+    for (std::size_t v = 0; v < nv; ++v) engine_index[input_vertex_[v]] = static_cast<VertexIndex>(v);
+    std::vector<std::uint32_t> first(nv + 1, 0);
+    auto lowest = [&](const Face& f) { return std::min({engine_index[f[0]], engine_index[f[1]], engine_index[f[2]]}); };
+    for (const Face& f : input.faces) ++first[lowest(f) + 1];
+    for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+    input_face_.resize(nf);
+    faces_.resize(nf);
+    for (std::size_t i = 0; i < nf; ++i) {
+      const Face& f = input.faces[i];
+      const std::uint32_t slot = first[lowest(f)]++;
+      input_face_[slot] = static_cast<std::uint32_t>(i);
+      faces_[slot] = {engine_index[f[0]], engine_index[f[1]], engine_index[f[2]]};
     }
+  }
+
+  void build_vertex_faces() {
+    vertex_faces_.build(positions_.size(), faces_, [&](std::size_t f) { return !face_alive_[f]; });
   }
 
   // VG: V(t)^P per input face; with crease_visibility, V(t) is first raised to the V of any
   // face across an edge where the normals differ by more than 30°.
   void compute_face_weights(const SimplifyOptions& options) {
     constexpr double kCreaseCosine = 0.8660254037844387;  // cos 30°
-    const std::vector<float>& visibility = options.face_visibility;
+    const std::vector<float>& input_visibility = options.face_visibility;
+    auto visibility = [&](std::size_t f) { return input_visibility[input_face_[f]]; };
     face_weight_.resize(faces_.size());
     for (std::size_t f = 0; f < faces_.size(); ++f) {
-      double v = visibility[f];
+      double v = visibility(f);
       if (options.crease_visibility && face_alive_[f]) {
         const Face& face = faces_[f];
         const Vec3 n = unit_normal(face);
         for (int k = 0; k < 3; ++k) {
           const VertexIndex a = face[k], b = face[(k + 1) % 3];
           for (std::uint32_t g : vertex_faces_[a])
-            if (visibility[g] > v && has_vertex(faces_[g], b) && dot(n, unit_normal(faces_[g])) < kCreaseCosine)
-              v = visibility[g];
+            if (visibility(g) > v && has_vertex(faces_[g], b) && dot(n, unit_normal(faces_[g])) < kCreaseCosine)
+              v = visibility(g);
         }
       }
       face_weight_[f] = options.visibility_exponent == 2.0 ? v * v : std::pow(v, options.visibility_exponent);
@@ -376,12 +405,21 @@ class CollapseEngine {
         }
   }
 
+  // Every edge once, costed into one exactly sized array that becomes the heap.
   void push_initial_edges() {
+    std::size_t edges = 0;
+    for (VertexIndex v = 0; v < positions_.size(); ++v)
+      for_each_neighbor(v, [&](VertexIndex w) { edges += w > v ? 1 : 0; });
+    std::vector<HeapEntry> initial;
+    initial.reserve(edges);
     for (VertexIndex v = 0; v < positions_.size(); ++v) {
       for_each_neighbor(v, [&](VertexIndex w) {
-        if (w > v) push_edge(v, w);
+        if (w > v) {
+          if (const std::optional<HeapEntry> e = edge_entry(v, w)) initial.push_back(*e);
+        }
       });
     }
+    heap_.assign(std::move(initial));
   }
 
   // Collapsing (v0, v1): placed with the plain quadric; error = RMS distance of the placement
@@ -425,8 +463,8 @@ class CollapseEngine {
   // A CollapseCost's key: its cost at the plain placement, in mesh coordinates.
   std::uint32_t custom_key(VertexIndex v0, VertexIndex v1, const Placement& placement) const {
     CollapseCost::Edge e;
-    e.v0 = v0;
-    e.v1 = v1;
+    e.v0 = input_vertex_[v0];  // the caller's indices
+    e.v1 = input_vertex_[v1];
     e.p0 = frame_.from_unit(positions_[v0]);
     e.p1 = frame_.from_unit(positions_[v1]);
     e.placed = frame_.from_unit(placement.position);
@@ -458,11 +496,15 @@ class CollapseEngine {
   // run; an edge between two locked vertices never collapses. A free vertex has one fan and
   // only manifold, consistently oriented edges, so the edge itself is always manifold.
   void push_edge(VertexIndex a, VertexIndex b) {
+    if (const std::optional<HeapEntry> e = edge_entry(a, b)) heap_.push(*e);
+  }
+
+  std::optional<HeapEntry> edge_entry(VertexIndex a, VertexIndex b) const {
     const bool a_locked = flags_[a] & kLocked, b_locked = flags_[b] & kLocked;
-    if (a_locked && b_locked) return;
+    if (a_locked && b_locked) return std::nullopt;
     if (b_locked) std::swap(a, b);
     const Placement at = placement(a, b, plain_quadric(a) + plain_quadric(b));
-    heap_.push({queue_key(a, b, at), a, b, clock_});
+    return HeapEntry{queue_key(a, b, at), a, b, clock_};
   }
 
   // One or two faces on edge (a, b), and two run it in opposite directions.
@@ -588,36 +630,27 @@ class CollapseEngine {
     return false;
   }
 
-  void remove_from(std::vector<std::uint32_t>& list, std::uint32_t f) {
-    const auto it = std::find(list.begin(), list.end(), f);
-    if (it != list.end()) {
-      *it = list.back();
-      list.pop_back();
-    }
-  }
-
   void collapse(const CollapseProfile& p, SimplifyResult& result) {
     const VertexIndex v0 = p.v0, v1 = p.v1;
     for (int i = 0; i < p.num_removed; ++i) {
       const std::uint32_t f = p.removed[i];
       face_alive_[f] = 0;
-      remove_from(vertex_faces_[p.opposite[i]], f);
-      remove_from(vertex_faces_[v0], f);
+      vertex_faces_.remove(p.opposite[i], f);
+      vertex_faces_.remove(v0, f);
     }
     for (std::uint32_t f : vertex_faces_[v1]) {
       if (!face_alive_[f]) continue;
       for (VertexIndex& w : faces_[f])
         if (w == v1) w = v0;
-      vertex_faces_[v0].push_back(f);
     }
-    std::vector<std::uint32_t>().swap(vertex_faces_[v1]);
+    vertex_faces_.merge_into(v0, v1, [&](std::uint32_t f) { return face_alive_[f] != 0; });
     faces_alive_ -= static_cast<std::size_t>(p.num_removed);
 
     positions_[v0] = p.placement.position;
     if (p.placement.kind == PlacementKind::endpoint1)
       origin_[v0] = origin_[v1];
     else if (p.placement.kind != PlacementKind::endpoint0)
-      origin_[v0] = -1;
+      origin_[v0] = kNoOrigin;
     plain_quadric(v0) += plain_quadric(v1);
     if (weighted_) cost_quadric(v0) += cost_quadric(v1);
     if (!vertex_weights_.empty()) vertex_weights_[v0] = std::max(vertex_weights_[v0], vertex_weights_[v1]);
@@ -650,10 +683,11 @@ class CollapseEngine {
     next_report_ = faces_alive_ > report_every_ ? faces_alive_ - report_every_ : 0;
   }
 
-  // Drops stale entries once they outnumber live edges, bounding the heap's memory.
+  // Drops stale entries once they are twice the live edges, bounding the heap's memory (at 4×
+  // the heap was the engine's largest allocation).
   void maybe_compact_heap() {
     const std::size_t live_edges = faces_alive_ * 3 / 2 + 1024;
-    if (heap_.size() < 4 * live_edges) return;
+    if (heap_.size() < 3 * live_edges) return;
     heap_.remove_if([this](const HeapEntry& e) { return is_stale(e); });
   }
 
@@ -671,7 +705,10 @@ class CollapseEngine {
   std::vector<std::uint8_t> face_alive_;
   std::size_t faces_alive_ = 0;
   std::size_t dropped_repeated_index_faces_ = 0;
-  std::vector<std::vector<std::uint32_t>> vertex_faces_;
+  detail::VertexFaceLists vertex_faces_;
+  // Engine index -> input index (see reorder_spatially).
+  std::vector<VertexIndex> input_vertex_;
+  std::vector<std::uint32_t> input_face_;
   // Per vertex the plain quadric Q (places the vertex, gives the error) and, under VG, right
   // after it the cost quadric Q_v = Σ V(t)^P K_t (orders the queue). Interleaved, both come in
   // with one memory access: a separate array doubled the cache misses (VG +15–40% over QB).
@@ -686,7 +723,8 @@ class CollapseEngine {
   std::vector<double> face_weight_;  // VG only: V(t)^P per input face (P = 2 by default)
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> modified_;  // clock of the vertex's last change
-  std::vector<std::int64_t> origin_;     // input vertex whose exact position v holds, or -1
+  static constexpr VertexIndex kNoOrigin = 0xffffffffu;
+  std::vector<VertexIndex> origin_;  // input vertex whose exact position v holds, or kNoOrigin
   std::vector<std::uint32_t> mark_;
   std::uint32_t mark_id_ = 0;
   std::uint32_t clock_ = 0;

@@ -1,0 +1,138 @@
+// Private to simplify: the faces around each vertex, all lists in one pool.
+//
+// A std::vector per vertex cost 24 bytes of header plus a heap block (and its malloc
+// header) per vertex, and put each list wherever malloc had room: at 14M faces the lists
+// were a fifth of the engine's memory and every visit of a neighbour's list was a cache
+// miss. Here a list is a slice of one array, laid out in vertex order, so lists of vertices
+// close in the (spatially sorted) vertex order are close in memory. A list that outgrows its
+// slice moves to the end of the pool; once the slices left behind outweigh the live ones,
+// the pool is rewritten in vertex order.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace visimp::detail {
+
+class VertexFaceLists {
+ public:
+  struct Range {
+    const std::uint32_t* first;
+    const std::uint32_t* last;
+    const std::uint32_t* begin() const { return first; }
+    const std::uint32_t* end() const { return last; }
+    std::size_t size() const { return static_cast<std::size_t>(last - first); }
+    bool empty() const { return first == last; }
+    std::uint32_t operator[](std::size_t i) const { return first[i]; }
+  };
+
+  /// Lists for `vertex_count` vertices from faces given as triples; faces for which
+  /// `skip(f)` is true are left out.
+  template <class Faces, class Skip>
+  void build(std::size_t vertex_count, const Faces& faces, Skip skip) {
+    slots_.assign(vertex_count, Slot{});
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (!skip(f))
+        for (auto v : faces[f]) ++slots_[v].capacity;
+    std::size_t offset = 0;
+    for (Slot& s : slots_) {
+      s.offset = checked_offset(offset);
+      offset += s.capacity;
+    }
+    pool_.reserve(offset + offset / 4);  // room for lists that grow, before the first rewrite
+    pool_.assign(offset, 0);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (!skip(f))
+        for (auto v : faces[f]) {
+          Slot& s = slots_[v];
+          pool_[s.offset + s.size++] = static_cast<std::uint32_t>(f);
+        }
+    dead_ = 0;
+  }
+
+  Range operator[](std::size_t v) const {
+    const Slot& s = slots_[v];
+    return {pool_.data() + s.offset, pool_.data() + s.offset + s.size};
+  }
+
+  /// Removes face f from v's list (the last entry takes its place).
+  void remove(std::size_t v, std::uint32_t f) {
+    Slot& s = slots_[v];
+    std::uint32_t* list = pool_.data() + s.offset;
+    for (std::uint32_t i = 0; i < s.size; ++i)
+      if (list[i] == f) {
+        list[i] = list[--s.size];
+        return;
+      }
+  }
+
+  /// Appends the faces of `from` for which `keep(f)` is true to `to`'s list, and empties
+  /// `from`'s (the collapse merging `from` into `to`).
+  template <class Keep>
+  void merge_into(std::size_t to, std::size_t from, Keep keep) {
+    reserve(to, slots_[to].size + slots_[from].size);
+    Slot& t = slots_[to];
+    Slot& s = slots_[from];
+    for (std::uint32_t i = 0; i < s.size; ++i) {
+      const std::uint32_t f = pool_[s.offset + i];
+      if (keep(f)) pool_[t.offset + t.size++] = f;
+    }
+    dead_ += s.capacity;
+    s = Slot{};
+  }
+
+  std::size_t memory_bytes() const {
+    return slots_.capacity() * sizeof(Slot) + pool_.capacity() * sizeof(std::uint32_t);
+  }
+
+ private:
+  struct Slot {
+    std::uint32_t offset = 0, size = 0, capacity = 0;
+  };
+
+  static std::uint32_t checked_offset(std::size_t offset) {
+    if (offset > 0xffffffffu) throw std::length_error("simplify: more than 2^32 vertex-face incidences");
+    return static_cast<std::uint32_t>(offset);
+  }
+
+  // Room for `needed` entries in v's slice: the list moves to the end of the pool with room to
+  // grow (collapses keep merging into the same survivors). Before the pool would reallocate,
+  // it is rewritten if a fifth of it is dead slices.
+  void reserve(std::size_t v, std::size_t needed) {
+    if (needed <= slots_[v].capacity) return;
+    const std::size_t capacity = std::max<std::size_t>(needed + needed / 2, 8);
+    if (pool_.size() + capacity > pool_.capacity() && dead_ > pool_.size() / 5) compact();
+    Slot& s = slots_[v];
+    const std::uint32_t offset = checked_offset(pool_.size());
+    checked_offset(pool_.size() + capacity);
+    pool_.resize(pool_.size() + capacity);
+    std::copy_n(pool_.begin() + s.offset, s.size, pool_.begin() + offset);
+    dead_ += s.capacity;
+    s.offset = offset;
+    s.capacity = static_cast<std::uint32_t>(capacity);
+  }
+
+  // Rewrites the pool in vertex order, each slice as long as its list (the dead slices go).
+  void compact() {
+    std::vector<std::uint32_t> packed;
+    std::size_t live = 0;
+    for (const Slot& s : slots_) live += s.size;
+    packed.reserve(live + live / 4);
+    for (Slot& s : slots_) {
+      const std::uint32_t offset = checked_offset(packed.size());
+      packed.insert(packed.end(), pool_.begin() + s.offset, pool_.begin() + s.offset + s.size);
+      s.offset = offset;
+      s.capacity = s.size;
+    }
+    pool_.swap(packed);
+    dead_ = 0;
+  }
+
+  std::vector<Slot> slots_;
+  std::vector<std::uint32_t> pool_;
+  std::size_t dead_ = 0;  // entries of the pool no list uses
+};
+
+}  // namespace visimp::detail

@@ -1,0 +1,51 @@
+// Morton orders of faces and vertices: sorted by code, ties in index order, every index once.
+#include "visimp/core/spatial_order.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "visimp/core/bounding_box.h"
+#include "test_meshes.h"
+#include "visimp/io/mesh_io.h"
+
+namespace visimp {
+namespace {
+
+TEST(SpatialOrder, VerticesFollowTheirMortonCodesWithTiesInIndexOrder) {
+  Mesh m;
+  // Two points share a code (the same position) and must keep their index order.
+  m.positions = {{1, 1, 1}, {0, 0, 0}, {0.5, 0.5, 0.5}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<std::uint32_t> order = spatial_vertex_order(m);
+  // Codes: the origin 0 (twice), then the centre (top bits 000, then all ones), (0, 1, 0)
+  // (top bits 010), (1, 0, 0) (100) and the far corner (all ones).
+  EXPECT_EQ(order, (std::vector<std::uint32_t>{1, 3, 2, 5, 4, 0}));
+}
+
+TEST(SpatialOrder, FaceAndVertexOrdersAreSortedPermutationsOnARealMesh) {
+  const Mesh m = read_mesh(test::bundled_mesh("bunny.ply"));
+  const BoundingBox box = bounding_box(m);
+  const Vec3 extent = box.max - box.min;
+  const double scale = 1.0 / std::max({extent.x, extent.y, extent.z});
+  const std::vector<std::uint32_t> vertices = spatial_vertex_order(m);
+  ASSERT_EQ(vertices.size(), m.num_vertices());
+  std::vector<std::uint32_t> seen(vertices);
+  std::sort(seen.begin(), seen.end());
+  std::vector<std::uint32_t> all(m.num_vertices());
+  std::iota(all.begin(), all.end(), 0u);
+  EXPECT_EQ(seen, all);
+  for (std::size_t i = 1; i < vertices.size(); ++i) {
+    const std::uint32_t a = morton_code((m.positions[vertices[i - 1]] - box.min) * scale);
+    const std::uint32_t b = morton_code((m.positions[vertices[i]] - box.min) * scale);
+    ASSERT_TRUE(a < b || (a == b && vertices[i - 1] < vertices[i])) << "at " << i;
+  }
+  const std::vector<std::uint32_t> faces = spatial_face_order(m);
+  ASSERT_EQ(faces.size(), m.num_faces());
+  std::vector<std::uint32_t> face_seen(faces);
+  std::sort(face_seen.begin(), face_seen.end());
+  for (std::size_t i = 0; i < face_seen.size(); ++i) ASSERT_EQ(face_seen[i], i);
+}
+
+}  // namespace
+}  // namespace visimp

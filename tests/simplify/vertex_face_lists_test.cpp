@@ -1,0 +1,86 @@
+// The pooled per-vertex face lists (lib/src/simplify/vertex_face_lists.h) against a plain
+// vector-of-vectors model, through the engine's own pattern of removals and merges, long
+// enough that lists move to the pool's end and the pool is rewritten many times.
+#include "vertex_face_lists.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace visimp::detail {
+namespace {
+
+std::vector<std::uint32_t> sorted(VertexFaceLists::Range r) {
+  std::vector<std::uint32_t> v(r.begin(), r.end());
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+TEST(VertexFaceLists, BuildListsEachFaceAtItsCornersInFaceOrderAndSkipsWhatIsAskedTo) {
+  const std::vector<std::array<std::uint32_t, 3>> faces = {{0, 1, 2}, {0, 2, 3}, {1, 2, 3}, {3, 4, 0}};
+  VertexFaceLists lists;
+  lists.build(6, faces, [](std::size_t f) { return f == 2; });
+  EXPECT_EQ(std::vector<std::uint32_t>(lists[0].begin(), lists[0].end()), (std::vector<std::uint32_t>{0, 1, 3}));
+  EXPECT_EQ(std::vector<std::uint32_t>(lists[1].begin(), lists[1].end()), (std::vector<std::uint32_t>{0}));
+  EXPECT_EQ(lists[3].size(), 2u);
+  EXPECT_TRUE(lists[5].empty());
+  EXPECT_EQ(lists[0][2], 3u);
+}
+
+TEST(VertexFaceLists, RemovalsAndMergesMatchAPlainModelThroughManyPoolRewrites) {
+  constexpr std::size_t kVertices = 3000, kFaces = 6000;
+  std::mt19937 random(7);
+  std::vector<std::array<std::uint32_t, 3>> faces(kFaces);
+  for (auto& f : faces) {
+    std::uniform_int_distribution<std::uint32_t> any(0, kVertices - 1);
+    f = {any(random), any(random), any(random)};
+  }
+  VertexFaceLists lists;
+  lists.build(kVertices, faces, [](std::size_t) { return false; });
+  std::vector<std::vector<std::uint32_t>> model(kVertices);
+  for (std::uint32_t f = 0; f < kFaces; ++f)
+    for (std::uint32_t v : faces[f]) model[v].push_back(f);
+  std::vector<std::uint8_t> alive(kFaces, 1);
+
+  std::vector<std::uint32_t> survivors(kVertices);
+  for (std::uint32_t v = 0; v < kVertices; ++v) survivors[v] = v;
+  // Merge random pairs of survivors until 30 are left, killing a face now and then, as
+  // collapses do: the survivors' lists grow to hundreds of entries.
+  while (survivors.size() > 30) {
+    std::uniform_int_distribution<std::size_t> pick(0, survivors.size() - 1);
+    const std::size_t i = pick(random);
+    std::size_t j = pick(random);
+    if (i == j) continue;
+    const std::uint32_t to = survivors[i], from = survivors[j];
+    if (!model[to].empty() && random() % 3 == 0) {  // a face removed from a list, as at an opposite vertex
+      const std::uint32_t f = model[to][random() % model[to].size()];
+      lists.remove(to, f);
+      model[to].erase(std::find(model[to].begin(), model[to].end(), f));
+      alive[f] = 0;
+    }
+    lists.merge_into(to, from, [&](std::uint32_t f) { return alive[f] != 0; });
+    for (std::uint32_t f : model[from])
+      if (alive[f]) model[to].push_back(f);
+    model[from].clear();
+    survivors.erase(survivors.begin() + static_cast<std::ptrdiff_t>(j));
+    for (std::uint32_t v : {to, from}) {
+      std::vector<std::uint32_t> expected = model[v];
+      std::sort(expected.begin(), expected.end());
+      ASSERT_EQ(sorted(lists[v]), expected) << "vertex " << v << " with " << survivors.size() << " survivors";
+    }
+  }
+  for (std::uint32_t v = 0; v < kVertices; ++v) {
+    std::vector<std::uint32_t> expected = model[v];
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(sorted(lists[v]), expected) << "vertex " << v;
+  }
+  // Rewrites keep the pool near its live size: everything merged into 30 lists of ~200.
+  EXPECT_LT(lists.memory_bytes(), 4 * (kVertices * 12 + 3 * kFaces * 4));
+}
+
+}  // namespace
+}  // namespace visimp::detail
