@@ -10,6 +10,8 @@
 #include <iostream>
 #include <iterator>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "visimp/core/errors.h"
 #include "visimp/core/validate.h"
@@ -75,17 +77,34 @@ Format format_from_path(const std::string& path) {
   return *format;
 }
 
+namespace {
+
+// Everything left in `in`, in 1 MiB blocks into a string reserved for `expected` bytes (the
+// file's size when known). Read a character at a time through istreambuf_iterator, a 265 MB
+// PLY took 1.2 s, most of the reader's time; cat takes 0.27 s.
+std::string read_all(std::istream& in, std::uintmax_t expected) {
+  std::string bytes;
+  if (expected > 0) bytes.reserve(static_cast<std::size_t>(expected) + 1);
+  std::vector<char> block(std::size_t{1} << 20);
+  while (in.read(block.data(), static_cast<std::streamsize>(block.size())) || in.gcount() > 0)
+    bytes.append(block.data(), static_cast<std::size_t>(in.gcount()));
+  return bytes;
+}
+
+}  // namespace
+
 std::string read_file_bytes(const std::string& path) {
   if (path == "-") {
-    std::ostringstream all;
-    all << std::cin.rdbuf();
-    return all.str();
+    std::string bytes = read_all(std::cin, 0);
+    if (std::cin.bad()) throw IoError(path, "read error on standard input");
+    return bytes;
   }
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a mesh file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::uintmax_t size = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
+  std::string bytes = read_all(in, ec ? 0 : size);
   if (in.bad()) throw IoError(path, "read error");
   return bytes;
 }
