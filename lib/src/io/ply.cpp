@@ -138,6 +138,50 @@ Header parse_header(std::string_view bytes, const std::string& name) {
   return h;
 }
 
+// One value of type s at p, in the host's (little-endian) byte order.
+double load_scalar(const char* p, Scalar s) {
+  switch (s) {
+    case Scalar::i8: {
+      std::int8_t v;
+      std::memcpy(&v, p, 1);
+      return v;
+    }
+    case Scalar::u8:
+      return static_cast<unsigned char>(*p);
+    case Scalar::i16: {
+      std::int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case Scalar::u16: {
+      std::uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case Scalar::i32: {
+      std::int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case Scalar::u32: {
+      std::uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case Scalar::f32: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case Scalar::f64: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+  }
+  return 0;
+}
+
 // Reads scalars from a binary body with bounds checks; every failure names the byte offset.
 class BinaryCursor {
  public:
@@ -152,46 +196,7 @@ class BinaryCursor {
     std::memcpy(raw, bytes_.data() + pos_, n);
     if (big_) std::reverse(raw, raw + n);
     pos_ += n;
-    switch (s) {
-      case Scalar::i8: {
-        std::int8_t v;
-        std::memcpy(&v, raw, 1);
-        return v;
-      }
-      case Scalar::u8:
-        return raw[0];
-      case Scalar::i16: {
-        std::int16_t v;
-        std::memcpy(&v, raw, 2);
-        return v;
-      }
-      case Scalar::u16: {
-        std::uint16_t v;
-        std::memcpy(&v, raw, 2);
-        return v;
-      }
-      case Scalar::i32: {
-        std::int32_t v;
-        std::memcpy(&v, raw, 4);
-        return v;
-      }
-      case Scalar::u32: {
-        std::uint32_t v;
-        std::memcpy(&v, raw, 4);
-        return v;
-      }
-      case Scalar::f32: {
-        float v;
-        std::memcpy(&v, raw, 4);
-        return v;
-      }
-      case Scalar::f64: {
-        double v;
-        std::memcpy(&v, raw, 8);
-        return v;
-      }
-    }
-    return 0;
+    return load_scalar(reinterpret_cast<const char*>(raw), s);
   }
   std::size_t pos() const { return pos_; }
   std::size_t remaining() const { return bytes_.size() - pos_; }
@@ -246,49 +251,6 @@ class BinaryBody final : public BodyReader {
 // element whole or not at all: on anything unusual — data too short, a list that does not fit,
 // an invalid index, a non-finite coordinate — it returns false having changed nothing, and the
 // general reader reads the element again and names the problem exactly as before.
-double load_scalar(const char* p, Scalar s) {
-  switch (s) {
-    case Scalar::i8: {
-      std::int8_t v;
-      std::memcpy(&v, p, 1);
-      return v;
-    }
-    case Scalar::u8:
-      return static_cast<unsigned char>(*p);
-    case Scalar::i16: {
-      std::int16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case Scalar::u16: {
-      std::uint16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case Scalar::i32: {
-      std::int32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case Scalar::u32: {
-      std::uint32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case Scalar::f32: {
-      float v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case Scalar::f64: {
-      double v;
-      std::memcpy(&v, p, 8);
-      return v;
-    }
-  }
-  return 0;
-}
-
 struct ElementRoles {
   bool is_vertex = false, is_face = false, have_vertices = false;
   int ix = -1, iy = -1, iz = -1, iq = -1, ilist = -1;
