@@ -28,6 +28,17 @@ std::string nan_binary_ply() {
   return s;
 }
 
+// Three valid vertices and one face with `count` and `indices` as given: the binary fast path
+// must give these back to the general reader, whose messages name the problem.
+std::string binary_face_ply(unsigned char count, const std::vector<int>& indices) {
+  std::string s = ply_header("binary_little_endian", 3, 1);
+  const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  s.append(reinterpret_cast<const char*>(v), sizeof v);
+  s.append(reinterpret_cast<const char*>(&count), 1);
+  s.append(reinterpret_cast<const char*>(indices.data()), indices.size() * sizeof(int));
+  return s;
+}
+
 std::string inf_binary_stl() {
   std::string s(80, ' ');
   const std::uint32_t n = 1;
@@ -88,6 +99,10 @@ std::vector<BadInput> bad_inputs() {
       {"ply face with 0 vertices", "bad.ply", ply_header("ascii", 3, 1) + tri + "0\n", "0 vertices"},
       {"ply index beyond 2^32", "bad.ply", ply_header("ascii", 3, 1) + tri + "3 0 1 4294967296\n", "index"},
       {"ply binary nan", "bad.ply", nan_binary_ply(), "non-finite"},
+      {"ply binary index out of range", "bad.ply", binary_face_ply(3, {0, 1, 7}), "index 7"},
+      {"ply binary negative index", "bad.ply", binary_face_ply(3, {0, -1, 2}), "invalid vertex index"},
+      {"ply binary face with 2 vertices", "bad.ply", binary_face_ply(2, {0, 1}), "2 vertices"},
+      {"ply binary list past the end", "bad.ply", binary_face_ply(200, {0, 1, 2}), "longer than the data"},
       {"ply list count as float", "bad.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
        "element face 1\nproperty list float int vertex_indices\nend_header\n" +

@@ -36,29 +36,36 @@ std::vector<std::uint32_t> order_by_key(const std::vector<std::uint32_t>& key) {
   return order;
 }
 
+// Morton codes of points in the mesh's bounding box, scaled by its longest side.
+struct MortonBox {
+  explicit MortonBox(const Mesh& mesh) : box(bounding_box(mesh)) {
+    const Vec3 extent = box.max - box.min;
+    scale = 1.0 / std::max({extent.x, extent.y, extent.z, 1e-300});
+  }
+  std::uint32_t operator()(const Vec3& p) const { return morton_code((p - box.min) * scale); }
+  BoundingBox box;
+  double scale = 1;
+};
+
 }  // namespace
 
 std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh) {
-  const BoundingBox box = bounding_box(mesh);
-  const Vec3 extent = box.max - box.min;
-  const double scale = 1.0 / std::max({extent.x, extent.y, extent.z, 1e-300});
+  const MortonBox code(mesh);
   std::vector<std::uint32_t> key(mesh.num_faces());
   for (std::size_t f = 0; f < key.size(); ++f) {
     // Summed in index order, so the key does not depend on how the face is wound or rotated.
     Face face = mesh.faces[f];
     std::sort(face.begin(), face.end());
     const Vec3 centroid = (mesh.positions[face[0]] + mesh.positions[face[1]] + mesh.positions[face[2]]) / 3.0;
-    key[f] = morton_code((centroid - box.min) * scale);
+    key[f] = code(centroid);
   }
   return order_by_key(key);
 }
 
 std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh) {
-  const BoundingBox box = bounding_box(mesh);
-  const Vec3 extent = box.max - box.min;
-  const double scale = 1.0 / std::max({extent.x, extent.y, extent.z, 1e-300});
+  const MortonBox code(mesh);
   std::vector<std::uint32_t> key(mesh.num_vertices());
-  for (std::size_t v = 0; v < key.size(); ++v) key[v] = morton_code((mesh.positions[v] - box.min) * scale);
+  for (std::size_t v = 0; v < key.size(); ++v) key[v] = code(mesh.positions[v]);
   return order_by_key(key);
 }
 

@@ -8,8 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -155,9 +153,7 @@ Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::stri
 }
 
 Mesh read_mesh(std::istream& in, Format format, const std::string& name) {
-  std::ostringstream all;
-  all << in.rdbuf();
-  return read_mesh_from_bytes(all.str(), format, name);
+  return read_mesh_from_bytes(read_all(in, 0), format, name);
 }
 
 namespace {

@@ -138,46 +138,32 @@ Header parse_header(std::string_view bytes, const std::string& name) {
   return h;
 }
 
+template <class T>
+double load(const char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return static_cast<double>(v);
+}
+
 // One value of type s at p, in the host's (little-endian) byte order.
 double load_scalar(const char* p, Scalar s) {
   switch (s) {
-    case Scalar::i8: {
-      std::int8_t v;
-      std::memcpy(&v, p, 1);
-      return v;
-    }
+    case Scalar::i8:
+      return load<std::int8_t>(p);
     case Scalar::u8:
-      return static_cast<unsigned char>(*p);
-    case Scalar::i16: {
-      std::int16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case Scalar::u16: {
-      std::uint16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case Scalar::i32: {
-      std::int32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case Scalar::u32: {
-      std::uint32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case Scalar::f32: {
-      float v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case Scalar::f64: {
-      double v;
-      std::memcpy(&v, p, 8);
-      return v;
-    }
+      return load<std::uint8_t>(p);
+    case Scalar::i16:
+      return load<std::int16_t>(p);
+    case Scalar::u16:
+      return load<std::uint16_t>(p);
+    case Scalar::i32:
+      return load<std::int32_t>(p);
+    case Scalar::u32:
+      return load<std::uint32_t>(p);
+    case Scalar::f32:
+      return load<float>(p);
+    case Scalar::f64:
+      return load<double>(p);
   }
   return 0;
 }
@@ -246,16 +232,17 @@ class BinaryBody final : public BodyReader {
   std::size_t start_ = 0;
 };
 
-// The fast path for little-endian binary bodies (nearly every binary PLY): values are loaded at
-// known offsets without a virtual call, a bounds check and a double per value. It reads one
-// element whole or not at all: on anything unusual — data too short, a list that does not fit,
-// an invalid index, a non-finite coordinate — it returns false having changed nothing, and the
-// general reader reads the element again and names the problem exactly as before.
+// Which properties of an element read_ply uses (-1: none).
 struct ElementRoles {
   bool is_vertex = false, is_face = false, have_vertices = false;
   int ix = -1, iy = -1, iz = -1, iq = -1, ilist = -1;
 };
 
+// The fast path for little-endian binary bodies (nearly every binary PLY): values are loaded at
+// known offsets without a virtual call, a bounds check and a double per value. It reads one
+// element whole or not at all: on anything unusual — data too short, a list that does not fit,
+// an invalid index, a non-finite coordinate — it returns false having changed nothing, and the
+// general reader reads the element again and names the problem exactly as before.
 bool read_element_fast(BinaryBody& body, const Element& e, const ElementRoles& r, Mesh& mesh,
                        std::vector<std::uint32_t>& polygon) {
   if (!body.little_endian() || !(r.is_vertex || r.is_face)) return false;

@@ -683,8 +683,8 @@ class CollapseEngine {
     next_report_ = faces_alive_ > report_every_ ? faces_alive_ - report_every_ : 0;
   }
 
-  // Drops stale entries once they are twice the live edges, bounding the heap's memory (at 4×
-  // the heap was the engine's largest allocation).
+  // Drops stale entries once the heap holds 3× the live edges, bounding its memory (at 4× the
+  // heap was the engine's largest allocation).
   void maybe_compact_heap() {
     const std::size_t live_edges = faces_alive_ * 3 / 2 + 1024;
     if (heap_.size() < 3 * live_edges) return;
