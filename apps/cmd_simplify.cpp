@@ -74,6 +74,7 @@ int run_simplify(const Args& args) {
     throw UsageError("give --target N, --ratio R, --max-error E, --targets N,N,.. or --levels K");
   if (!many) check_options(options);
   check_options(visibility_options);
+  options.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, 1024));  // rendering and collapsing
   const std::string& in = parser.positionals()[0];
   const std::string& out = parser.positionals()[1];
   if (many && out == "-") throw UsageError("several levels need a file name for OUT, not '-'");
@@ -176,6 +177,7 @@ int run_simplify(const Args& args) {
           .field("vertices_out", r.vertices_out)
           .field("target_faces", r.target_faces)
           .field("collapses", r.collapses)
+          .field("parallel_collapses", r.parallel_collapses)
           .field("rejected_collapses", r.rejected_collapses)
           .field("locked_vertices", r.locked_vertices)
           .field("dropped_faces", r.dropped_faces)

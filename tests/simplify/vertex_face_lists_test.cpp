@@ -82,5 +82,61 @@ TEST(VertexFaceLists, RemovalsAndMergesMatchAPlainModelThroughManyPoolRewrites) 
   EXPECT_LT(lists.memory_bytes(), 4 * (kVertices * 12 + 3 * kFaces * 4));
 }
 
+TEST(VertexFaceLists, RegionsKeepEveryListInsideItsRegionAndMatchThePlainModel) {
+  // Faces within regions of 100 vertices; merges only within a region, as in simplify's
+  // parallel phase. A region's lists must never be written outside it.
+  constexpr std::size_t kVertices = 1000, kRegion = 100, kFaces = 3000;
+  std::mt19937 random(11);
+  std::vector<std::array<std::uint32_t, 3>> faces(kFaces);
+  for (std::size_t i = 0; i < kFaces; ++i) {
+    const std::uint32_t base = static_cast<std::uint32_t>((i % (kVertices / kRegion)) * kRegion);
+    std::uniform_int_distribution<std::uint32_t> any(0, kRegion - 1);
+    faces[i] = {base + any(random), base + any(random), base + any(random)};
+  }
+  VertexFaceLists lists;
+  lists.build(kVertices, faces, [](std::size_t) { return false; });
+  lists.split_into_regions(kRegion, 0.5);
+  std::vector<std::vector<std::uint32_t>> model(kVertices);
+  for (std::uint32_t f = 0; f < kFaces; ++f)
+    for (std::uint32_t v : faces[f]) model[v].push_back(f);
+  std::vector<std::uint8_t> alive(kFaces, 1);
+  std::size_t merges = 0, refused = 0;
+  for (int step = 0; step < 20000; ++step) {
+    const std::uint32_t base = static_cast<std::uint32_t>((random() % (kVertices / kRegion)) * kRegion);
+    const std::uint32_t to = base + static_cast<std::uint32_t>(random() % kRegion);
+    const std::uint32_t from = base + static_cast<std::uint32_t>(random() % kRegion);
+    if (to == from || model[from].empty()) continue;
+    if (!model[to].empty() && random() % 3 == 0) {
+      const std::uint32_t f = model[to][random() % model[to].size()];
+      lists.remove(to, f);
+      model[to].erase(std::find(model[to].begin(), model[to].end(), f));
+      alive[f] = 0;
+    }
+    if (!lists.make_room(to, lists[to].size() + lists[from].size())) {
+      ++refused;
+      continue;
+    }
+    lists.merge_into(to, from, [&](std::uint32_t f) { return alive[f] != 0; });
+    ++merges;
+    for (std::uint32_t f : model[from])
+      if (alive[f]) model[to].push_back(f);
+    model[from].clear();
+    // Every list of the region stays right (a rewrite of the region moves them all).
+    for (std::uint32_t v = base; v < base + kRegion; ++v) {
+      std::vector<std::uint32_t> expected = model[v];
+      std::sort(expected.begin(), expected.end());
+      ASSERT_EQ(sorted(lists[v]), expected) << "vertex " << v << " at step " << step;
+    }
+  }
+  EXPECT_GT(merges, 500u);
+  lists.join_regions();
+  for (std::uint32_t v = 0; v < kVertices; ++v) {
+    std::vector<std::uint32_t> expected = model[v];
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(sorted(lists[v]), expected) << "vertex " << v;
+  }
+  (void)refused;  // a full region may refuse a merge; the model then skips it too
+}
+
 }  // namespace
 }  // namespace visimp::detail

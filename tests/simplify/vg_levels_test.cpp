@@ -214,6 +214,50 @@ TEST(SimplifyLevels, EachLevelEqualsASeparateRun) {
   expect_levels_equal_separate_runs(bunny, vg_options(v), {1801, 700, 99});
 }
 
+// A bumpy sphere of 163,842 vertices: three partitions of the parallel phase, costs that
+// differ from place to place (a plain icosphere ties nearly everything).
+Mesh bumpy_sphere() {
+  Mesh m = test::icosphere(7);
+  for (Vec3& p : m.positions) p = p * (1.0 + 0.05 * std::sin(9 * p.x) * std::sin(7 * p.y + 1) * std::sin(5 * p.z + 2));
+  return m;
+}
+
+TEST(SimplifyParallel, TheMeshIsTheSameForEveryThreadCount) {
+  const Mesh m = bumpy_sphere();
+  for (SimplifyMethod method : {SimplifyMethod::qb, SimplifyMethod::vg}) {
+    SimplifyOptions o;
+    o.method = method;
+    if (method == SimplifyMethod::vg)
+      for (std::size_t f = 0; f < m.num_faces(); ++f) o.face_visibility.push_back(m.positions[m.faces[f][0]].z > 0.3 ? 1.0f : 0.2f);
+    o.target_ratio = 0.1;
+    o.threads = 1;
+    const Simplified one = simplify(m, o);
+    // The phase ran and did most of the work, and left the rest to the serial loop.
+    EXPECT_GT(one.result.parallel_collapses, one.result.collapses / 2);
+    EXPECT_LT(one.result.parallel_collapses, one.result.collapses);
+    EXPECT_EQ(one.result.stop_reason, StopReason::target_reached);
+    for (unsigned threads : {2u, 3u}) {
+      SCOPED_TRACE("threads " + std::to_string(threads));
+      o.threads = threads;
+      const Simplified many = simplify(m, o);
+      expect_identical(one.mesh, many.mesh);
+      EXPECT_EQ(one.result.parallel_collapses, many.result.parallel_collapses);
+      EXPECT_EQ(one.result.max_error, many.result.max_error);
+    }
+  }
+}
+
+TEST(SimplifyParallel, LevelsOnBothSidesOfThePhaseEqualSeparateRuns) {
+  // 50% is above the phase's floor (3/10 of the input) and runs without it; the others share it.
+  const Mesh m = bumpy_sphere();
+  expect_levels_equal_separate_runs(m, SimplifyOptions{}, {m.num_faces() / 2, m.num_faces() * 3 / 10, 9001});
+  SimplifyOptions o;
+  o.target_faces = m.num_faces() / 2;
+  EXPECT_EQ(simplify(m, o).result.parallel_collapses, 0u);
+  o.target_faces = 9001;
+  EXPECT_GT(simplify(m, o).result.parallel_collapses, 0u);
+}
+
 TEST(SimplifyLevels, TargetsAboveTheInputKeepIt) {
   const Mesh m = test::icosphere(1);
   const std::vector<Simplified> levels = simplify_levels(m, SimplifyOptions{}, {1000, 40});

@@ -48,6 +48,33 @@ class RadixHeap {
     return item;
   }
 
+  /// The smallest key (the heap must not be empty).
+  std::uint32_t min_key() {
+    if (buckets_[0].empty()) refill_first_bucket();
+    return last_;
+  }
+
+  /// Pops an item with the smallest key into `out` if that key is at most `limit`.
+  bool pop_at_most(std::uint32_t limit, T& out) {
+    if (size_ == 0) return false;
+    if (buckets_[0].empty()) refill_first_bucket();
+    if (last_ > limit) return false;  // bucket 0 holds exactly the keys equal to last_
+    out = buckets_[0].back();
+    buckets_[0].pop_back();
+    --size_;
+    return true;
+  }
+
+  /// Appends every item to `into` (bucket by bucket, in a fixed order) and empties the heap.
+  void take_all(std::vector<T>& into) {
+    for (auto& bucket : buckets_) {
+      into.insert(into.end(), bucket.begin(), bucket.end());
+      std::vector<T>().swap(bucket);
+    }
+    size_ = 0;
+    last_ = 0;
+  }
+
   /// Drops every item for which `drop(item)` is true (used to shed stale entries).
   template <class Pred>
   void remove_if(Pred drop) {

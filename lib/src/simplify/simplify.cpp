@@ -14,6 +14,7 @@
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
+#include "visimp/core/parallel.h"
 #include "visimp/core/spatial_order.h"
 #include "visimp/core/union_find.h"
 #include "visimp/core/validate.h"
@@ -63,6 +64,7 @@ constexpr std::uint8_t kAlive = 1;
 constexpr std::uint8_t kLocked = 2;    // never moved or removed; a free neighbour may collapse onto it
 constexpr std::uint8_t kBoundary = 4;  // on an open boundary
 constexpr std::uint8_t kRejected = 8;  // a collapse at this vertex was refused; retry after nearby changes
+constexpr std::uint8_t kCut = 16;      // parallel phase: has a neighbour in another partition
 
 // A candidate in the lazy queue (key: radix_key of its cost). It is stale when either
 // endpoint changed after `time`; stale entries are skipped when popped.
@@ -97,6 +99,43 @@ struct CollapseProfile {
   double error = 0;  // RMS plane distance in the unit frame (= relative to the diagonal)
 };
 
+struct MovedFace {
+  std::uint32_t face;
+  Vec3 n_old, n_new;  // unnormalised normals before and after the candidate collapse
+};
+
+// A queue with its clock, marks and scratch. The serial loop has one over every vertex; in
+// the parallel phase each partition has its own, and a lane changes only its own vertices'
+// state, so lanes run on different threads at once.
+struct Lane {
+  detail::RadixHeap<HeapEntry> heap;
+  std::uint32_t clock = 0;    // the lane's vertices' modified_ and its entries' times
+  std::uint32_t mark_id = 0;  // the last mark given to one of its vertices
+  VertexIndex first_vertex = 0, last_vertex = 0;
+  std::vector<VertexIndex> ring, second_ring;
+  std::vector<MovedFace> moved_faces;
+  bool error_limited = false;
+  // Partitions only.
+  bool partition = false;
+  bool done = false;                   // reached its face budget
+  std::vector<HeapEntry> leftover;     // edges for the serial phase: crossing, or not deep
+  std::size_t faces_at_start = 0, faces_removed = 0, face_budget = 0;
+  SimplifyResult tally;                // its collapses, refusals and largest error
+};
+
+// The parallel phase (docs/simplify.md, "Two cores"). Partitions are runs of this many
+// consecutive vertices in the engine's spatial order: a fixed size, so the result does not
+// depend on the thread count.
+constexpr std::size_t kPartitionVertices = std::size_t(1) << 15;
+// A partition stops once it has removed 7/10 of its faces: the phase never ends below 3/10 of
+// the input, so every target at or below that shares it.
+constexpr std::size_t kPhaseBudgetTenths = 7;
+// Rounds stop once this fraction of the faces is left.
+constexpr double kPhaseGoal = 0.35;
+// Each round's cost threshold is the last one's float bits plus half a binade (x1.33-1.5).
+constexpr std::uint32_t kThresholdStep = std::uint32_t(1) << 22;
+constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
+
 bool has_vertex(const Face& f, VertexIndex v) { return f[0] == v || f[1] == v || f[2] == v; }
 
 VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) {
@@ -107,7 +146,9 @@ VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) {
 
 class CollapseEngine {
  public:
-  CollapseEngine(const Mesh& input, const SimplifyOptions& options)
+  // `partitioned`: set up the parallel phase (run_parallel_phase); `workers` threads build the
+  // queue either way.
+  CollapseEngine(const Mesh& input, const SimplifyOptions& options, bool partitioned, unsigned workers)
       : input_(input),
         frame_(unit_frame(bounding_box(input))),
         cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)),
@@ -144,7 +185,8 @@ class CollapseEngine {
     if (weighted_) compute_face_weights(options);
     classify_vertices(options);
     add_face_quadrics();
-    push_initial_edges();
+    serial_.last_vertex = static_cast<VertexIndex>(nv);
+    push_initial_edges(partitioned, workers);
   }
 
   // Collapses in queue order while more than `target` faces remain. A legal collapse that
@@ -155,16 +197,17 @@ class CollapseEngine {
   // queue: the entry a previous level stopped at.
   void run(std::size_t target, double max_error, SimplifyResult& result, std::vector<HeapEntry>& deferred,
            bool stop_at_deferral, const HeapEntry* first = nullptr) {
-    while ((first != nullptr || !heap_.empty()) && faces_alive_ > target) {
-      const HeapEntry entry = first != nullptr ? *first : heap_.pop();
+    Lane& lane = serial_;
+    while ((first != nullptr || !lane.heap.empty()) && faces_alive_ > target) {
+      const HeapEntry entry = first != nullptr ? *first : lane.heap.pop();
       first = nullptr;
       CollapseProfile profile;
       if (!prepare(entry, profile)) continue;
       if (profile.error > max_error || (custom_cost_ != nullptr && entry.key == kRefusedKey)) {
-        error_limited_ = true;
+        lane.error_limited = true;
         continue;
       }
-      if (!legal(profile)) {
+      if (!legal(lane, profile)) {
         ++result.rejected_collapses;
         flags_[profile.v0] |= kRejected;
         flags_[profile.v1] |= kRejected;
@@ -175,23 +218,54 @@ class CollapseEngine {
         if (stop_at_deferral) return;
         continue;
       }
-      collapse(profile, result);
+      collapse(lane, profile, result);
       report_progress();
-      maybe_compact_heap();
+      maybe_compact_heap(lane);
     }
     if (stop_at_deferral) return;
     for (const HeapEntry& entry : deferred) {
       if (faces_alive_ <= target) break;
       CollapseProfile profile;
-      if (prepare(entry, profile) && profile.error <= max_error && legal(profile)) collapse(profile, result);
+      if (prepare(entry, profile) && profile.error <= max_error && legal(lane, profile)) collapse(lane, profile, result);
     }
     if (faces_alive_ <= target)
       result.stop_reason = result.collapses ? StopReason::target_reached : StopReason::nothing_to_do;
     else
-      result.stop_reason = error_limited_ ? StopReason::error_limit : StopReason::no_legal_collapse;
+      result.stop_reason = lane.error_limited ? StopReason::error_limit : StopReason::no_legal_collapse;
   }
 
   std::size_t faces_alive() const { return faces_alive_; }
+
+  // The parallel phase: rounds in which every partition collapses, in its own queue's order,
+  // the deep edges (is_deep) that cost at most the round's threshold, until the faces are
+  // down to kPhaseGoal of the start (or a partition has used its budget). Partitions change
+  // no vertex, face or list memory that another reads, so they may run on any threads in any
+  // order with the same result. Then every queue and the edges left over become one queue,
+  // and run() goes on from there serially. Needs an engine built `partitioned`.
+  void run_parallel_phase(double max_error, unsigned workers, SimplifyResult& result) {
+    const std::size_t start = faces_alive_;
+    const std::size_t goal = static_cast<std::size_t>(kPhaseGoal * double(start));
+    vertex_faces_.split_into_regions(kPartitionVertices, 0.5);
+    workers = worker_count(workers, lanes_.size());
+    std::uint32_t threshold = first_threshold_;
+    for (;;) {
+      parallel_for(0, lanes_.size(), workers,
+                   [&](unsigned, std::size_t i) { run_partition(lanes_[i], threshold, max_error); });
+      std::size_t removed = 0;
+      std::uint32_t lowest_left = UINT32_MAX;  // the smallest key still queued
+      for (Lane& lane : lanes_) {
+        removed += lane.faces_removed;
+        if (!lane.done && !lane.heap.empty()) lowest_left = std::min(lowest_left, lane.heap.min_key());
+      }
+      faces_alive_ = start - removed;
+      report_progress();
+      if (faces_alive_ <= goal || lowest_left > kLastFiniteKey || threshold >= kLastFiniteKey) break;
+      // The next threshold, skipping rounds in which nothing would be collapsed.
+      threshold = std::max(lowest_left, threshold > kLastFiniteKey - kThresholdStep ? kLastFiniteKey
+                                                                                     : threshold + kThresholdStep);
+    }
+    join_partitions(result);
+  }
 
   void set_observer(SimplifyObserver* observer, std::size_t final_target) {
     observer_ = observer;
@@ -385,17 +459,18 @@ class CollapseEngine {
   }
 
   // A mark value no vertex carries yet (marks replace per-call sets of visited vertices).
-  std::uint32_t fresh_mark() {
-    if (mark_id_ == UINT32_MAX) {
-      std::fill(mark_.begin(), mark_.end(), 0);
-      mark_id_ = 0;
+  // A lane marks only its own vertices, so on wrapping it clears only those.
+  std::uint32_t fresh_mark(Lane& lane) {
+    if (lane.mark_id == UINT32_MAX) {
+      std::fill(mark_.begin() + lane.first_vertex, mark_.begin() + lane.last_vertex, 0);
+      lane.mark_id = 0;
     }
-    return ++mark_id_;
+    return ++lane.mark_id;
   }
 
   template <class Fn>
-  void for_each_neighbor(VertexIndex v, Fn&& fn) {
-    const std::uint32_t mark = fresh_mark();
+  void for_each_neighbor(Lane& lane, VertexIndex v, Fn&& fn) {
+    const std::uint32_t mark = fresh_mark(lane);
     mark_[v] = mark;
     for (std::uint32_t f : vertex_faces_[v])
       for (VertexIndex w : faces_[f])
@@ -405,21 +480,103 @@ class CollapseEngine {
         }
   }
 
-  // Every edge once, costed into one exactly sized array that becomes the heap.
-  void push_initial_edges() {
-    std::size_t edges = 0;
-    for (VertexIndex v = 0; v < positions_.size(); ++v)
-      for_each_neighbor(v, [&](VertexIndex w) { edges += w > v ? 1 : 0; });
-    std::vector<HeapEntry> initial;
-    initial.reserve(edges);
-    for (VertexIndex v = 0; v < positions_.size(); ++v) {
-      for_each_neighbor(v, [&](VertexIndex w) {
-        if (w > v) {
-          if (const std::optional<HeapEntry> e = edge_entry(v, w)) initial.push_back(*e);
-        }
+  // Every edge once, costed into exactly sized arrays that become the queues: one for the
+  // serial engine; when partitioned, one per partition, with the edges that cross into another
+  // partition set aside for the serial phase. Chunks of kPartitionVertices vertices are costed
+  // by `workers` threads, each into its own slice, so the arrays (and so the ties in the
+  // queue) are the same for any thread count, and in the order one thread would push them.
+  void push_initial_edges(bool partitioned, unsigned workers) {
+    const std::size_t nv = positions_.size();
+    const std::size_t chunks = (nv + kPartitionVertices - 1) / kPartitionVertices;
+    if (custom_cost_ != nullptr) workers = 1;  // a caller's cost need not be thread-safe
+    workers = worker_count(workers, chunks);
+    auto chunk_of = [](VertexIndex v) { return std::size_t(v) / kPartitionVertices; };
+    auto chunk_end = [&](std::size_t c) { return static_cast<VertexIndex>(std::min(nv, (c + 1) * kPartitionVertices)); };
+    auto both_locked = [&](VertexIndex a, VertexIndex b) { return (flags_[a] & kLocked) && (flags_[b] & kLocked); };
+    // Each thread its own marks: two threads may visit the same vertex.
+    std::vector<std::vector<std::uint32_t>> marks(workers);
+    std::vector<std::uint32_t> mark_ids(workers, 0);
+    auto neighbors = [&](unsigned worker, VertexIndex v, auto&& fn) {
+      std::vector<std::uint32_t>& mark = marks[worker];
+      if (mark.empty() || mark_ids[worker] == UINT32_MAX) {
+        mark.assign(nv, 0);
+        mark_ids[worker] = 0;
+      }
+      const std::uint32_t id = ++mark_ids[worker];
+      mark[v] = id;
+      for (std::uint32_t f : vertex_faces_[v])
+        for (VertexIndex w : faces_[f])
+          if (mark[w] != id) {
+            mark[w] = id;
+            fn(w);
+          }
+    };
+    if (partitioned) {
+      parallel_for(0, chunks, workers, [&](unsigned, std::size_t c) {
+        for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
+          for (std::uint32_t f : vertex_faces_[v])
+            for (VertexIndex w : faces_[f])
+              if (chunk_of(w) != c) flags_[v] |= kCut;
       });
     }
-    heap_.assign(std::move(initial));
+    std::vector<std::size_t> inner(chunks, 0), crossing(chunks, 0);
+    parallel_for(0, chunks, workers, [&](unsigned worker, std::size_t c) {
+      for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
+        neighbors(worker, v, [&](VertexIndex w) {
+          if (w > v && !both_locked(v, w)) ++(partitioned && chunk_of(w) != c ? crossing[c] : inner[c]);
+        });
+    });
+    std::vector<HeapEntry> serial_edges;
+    std::vector<std::vector<HeapEntry>> partition_edges;
+    std::vector<std::size_t> offset(chunks + 1, 0);
+    if (partitioned) {
+      lanes_.resize(chunks);
+      partition_edges.resize(chunks);
+      for (std::size_t c = 0; c < chunks; ++c) {
+        partition_edges[c].resize(inner[c]);
+        lanes_[c].leftover.reserve(crossing[c]);
+      }
+    } else {
+      for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + inner[c];
+      serial_edges.resize(offset[chunks]);
+    }
+    parallel_for(0, chunks, workers, [&](unsigned worker, std::size_t c) {
+      HeapEntry* out = partitioned ? partition_edges[c].data() : serial_edges.data() + offset[c];
+      for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
+        neighbors(worker, v, [&](VertexIndex w) {
+          if (w <= v || both_locked(v, w)) return;
+          const HeapEntry e = *edge_entry(v, w, 0);
+          if (partitioned && chunk_of(w) != c)
+            lanes_[c].leftover.push_back(e);
+          else
+            *out++ = e;
+        });
+    });
+    if (!partitioned) {
+      serial_.heap.assign(std::move(serial_edges));
+      return;
+    }
+    // Per partition: its vertex range, and how many faces it may remove (its faces are those
+    // whose lowest vertex it owns: contiguous, faces being sorted by their lowest vertex).
+    std::vector<std::size_t> faces_of(chunks, 0);
+    for (std::size_t f = 0; f < faces_.size(); ++f)
+      if (face_alive_[f]) ++faces_of[chunk_of(std::min({faces_[f][0], faces_[f][1], faces_[f][2]}))];
+    std::vector<std::uint32_t> sample;  // every 16th key, for the first round's threshold
+    for (std::size_t c = 0; c < chunks; ++c) {
+      Lane& lane = lanes_[c];
+      lane.partition = true;
+      lane.first_vertex = static_cast<VertexIndex>(c * kPartitionVertices);
+      lane.last_vertex = chunk_end(c);
+      lane.faces_at_start = faces_of[c];
+      lane.face_budget = faces_of[c] * kPhaseBudgetTenths / 10;
+      for (std::size_t i = 0; i < partition_edges[c].size(); i += 16) sample.push_back(partition_edges[c][i].key);
+      lane.heap.assign(std::move(partition_edges[c]));
+    }
+    if (!sample.empty()) {
+      auto at = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 20);
+      std::nth_element(sample.begin(), at, sample.end());
+      first_threshold_ = *at;
+    }
   }
 
   // Collapsing (v0, v1): placed with the plain quadric; error = RMS distance of the placement
@@ -495,16 +652,16 @@ class CollapseEngine {
   // misoriented or frozen parts still take in their free neighbours instead of stopping the
   // run; an edge between two locked vertices never collapses. A free vertex has one fan and
   // only manifold, consistently oriented edges, so the edge itself is always manifold.
-  void push_edge(VertexIndex a, VertexIndex b) {
-    if (const std::optional<HeapEntry> e = edge_entry(a, b)) heap_.push(*e);
+  void push_edge(Lane& lane, VertexIndex a, VertexIndex b) {
+    if (const std::optional<HeapEntry> e = edge_entry(a, b, lane.clock)) lane.heap.push(*e);
   }
 
-  std::optional<HeapEntry> edge_entry(VertexIndex a, VertexIndex b) const {
+  std::optional<HeapEntry> edge_entry(VertexIndex a, VertexIndex b, std::uint32_t time) const {
     const bool a_locked = flags_[a] & kLocked, b_locked = flags_[b] & kLocked;
     if (a_locked && b_locked) return std::nullopt;
     if (b_locked) std::swap(a, b);
     const Placement at = placement(a, b, plain_quadric(a) + plain_quadric(b));
-    return HeapEntry{queue_key(a, b, at), a, b, clock_};
+    return HeapEntry{queue_key(a, b, at), a, b, time};
   }
 
   // One or two faces on edge (a, b), and two run it in opposite directions.
@@ -547,13 +704,13 @@ class CollapseEngine {
   }
 
   // Legality filters: link condition, topology table, normal change.
-  bool legal(const CollapseProfile& p) {
+  bool legal(Lane& lane, const CollapseProfile& p) {
     // Link condition (Dey et al. 1999): the common neighbours of v0 and v1 must be exactly
     // the opposite vertices, or the collapse pinches the surface.
     std::size_t common = 0;
-    if (mark_id_ > UINT32_MAX - 2) fresh_mark();  // keep both marks below from wrapping
-    for_each_neighbor(p.v0, [](VertexIndex) {});
-    const std::uint32_t v0_neighbor = mark_id_, counted = fresh_mark();
+    if (lane.mark_id > UINT32_MAX - 2) fresh_mark(lane);  // keep both marks below from wrapping
+    for_each_neighbor(lane, p.v0, [](VertexIndex) {});
+    const std::uint32_t v0_neighbor = lane.mark_id, counted = fresh_mark(lane);
     for (std::uint32_t f : vertex_faces_[p.v1])
       for (VertexIndex w : faces_[f])
         if (w != p.v0 && w != p.v1 && mark_[w] == v0_neighbor) {
@@ -581,7 +738,8 @@ class CollapseEngine {
 
     // Normal change: no remaining face may turn by more than the limit or become degenerate.
     const Vec3 x = p.placement.position;
-    moved_faces_.clear();
+    std::vector<MovedFace>& moved_faces = lane.moved_faces;
+    moved_faces.clear();
     for (VertexIndex moved : {p.v0, p.v1}) {
       for (std::uint32_t f : vertex_faces_[moved]) {
         if (is_removed(p, f)) continue;
@@ -595,21 +753,21 @@ class CollapseEngine {
         const double len_new = norm(n_new);
         const double len_old = norm(n_old);
         if (len_old > 0 && dot(n_old, n_new) < cos_max_normal_change_ * len_old * len_new) return false;
-        if (prevent_folds_) moved_faces_.push_back({f, n_old, n_new});
+        if (prevent_folds_) moved_faces.push_back({f, n_old, n_new});
       }
     }
-    return !(prevent_folds_ && folds_an_edge(p));
+    return !(prevent_folds_ && folds_an_edge(moved_faces, p));
   }
 
   // With prevent_folds: true when a face around the merged vertex would fold back onto a face
   // across one of its edges (normals more than ~154° apart) where the two did not fold before.
   // The normal-change limit bounds each face's turn, not the angle between neighbours: a thin
   // plate whose rim is collapsed away ends as two sheets back to back.
-  bool folds_an_edge(const CollapseProfile& p) {
+  bool folds_an_edge(const std::vector<MovedFace>& moved_faces, const CollapseProfile& p) {
     constexpr double kFoldCosine = -0.9;
     auto folded = [&](const Vec3& a, const Vec3& b) { return dot(a, b) < kFoldCosine * norm(a) * norm(b); };
     auto renamed = [&](VertexIndex v) { return v == p.v1 ? p.v0 : v; };
-    for (const MovedFace& m : moved_faces_) {
+    for (const MovedFace& m : moved_faces) {
       const Face& face = faces_[m.face];
       for (int k = 0; k < 3; ++k) {
         VertexIndex a = renamed(face[k]), b = renamed(face[(k + 1) % 3]);
@@ -621,7 +779,7 @@ class CollapseEngine {
           if (!shares) continue;
           Vec3 g_old = cross(positions_[other[1]] - positions_[other[0]], positions_[other[2]] - positions_[other[0]]);
           Vec3 g_new = g_old;
-          for (const MovedFace& n : moved_faces_)
+          for (const MovedFace& n : moved_faces)
             if (n.face == g) g_new = n.n_new;
           if (folded(m.n_new, g_new) && !folded(m.n_old, g_old)) return true;
         }
@@ -630,7 +788,7 @@ class CollapseEngine {
     return false;
   }
 
-  void collapse(const CollapseProfile& p, SimplifyResult& result) {
+  void collapse(Lane& lane, const CollapseProfile& p, SimplifyResult& result) {
     const VertexIndex v0 = p.v0, v1 = p.v1;
     for (int i = 0; i < p.num_removed; ++i) {
       const std::uint32_t f = p.removed[i];
@@ -644,7 +802,10 @@ class CollapseEngine {
         if (w == v1) w = v0;
     }
     vertex_faces_.merge_into(v0, v1, [&](std::uint32_t f) { return face_alive_[f] != 0; });
-    faces_alive_ -= static_cast<std::size_t>(p.num_removed);
+    if (lane.partition)
+      lane.faces_removed += static_cast<std::size_t>(p.num_removed);
+    else
+      faces_alive_ -= static_cast<std::size_t>(p.num_removed);
 
     positions_[v0] = p.placement.position;
     if (p.placement.kind == PlacementKind::endpoint1)
@@ -656,24 +817,104 @@ class CollapseEngine {
     if (!vertex_weights_.empty()) vertex_weights_[v0] = std::max(vertex_weights_[v0], vertex_weights_[v1]);
     flags_[v0] = static_cast<std::uint8_t>(flags_[v0] | (flags_[v1] & kBoundary));
     flags_[v1] = 0;
-    ++clock_;
-    modified_[v0] = modified_[v1] = clock_;
+    ++lane.clock;
+    modified_[v0] = modified_[v1] = lane.clock;
     ++result.collapses;
     result.max_error = std::max(result.max_error, p.error);
 
     // New costs for every edge at v0; neighbours refused earlier get another chance since
     // their surroundings changed.
-    ring_.clear();
-    for_each_neighbor(v0, [&](VertexIndex w) { ring_.push_back(w); });
-    for (VertexIndex w : ring_) push_edge(v0, w);
-    for (VertexIndex w : ring_) {
+    std::vector<VertexIndex>& ring = lane.ring;
+    ring.clear();
+    for_each_neighbor(lane, v0, [&](VertexIndex w) { ring.push_back(w); });
+    for (VertexIndex w : ring) push_edge(lane, v0, w);
+    for (VertexIndex w : ring) {
       if (!(flags_[w] & kRejected)) continue;
       flags_[w] &= static_cast<std::uint8_t>(~kRejected);
-      second_ring_.clear();
-      for_each_neighbor(w, [&](VertexIndex u) { second_ring_.push_back(u); });
-      for (VertexIndex u : second_ring_)
-        if (u != v0) push_edge(w, u);
+      lane.second_ring.clear();
+      for_each_neighbor(lane, w, [&](VertexIndex u) { lane.second_ring.push_back(u); });
+      for (VertexIndex u : lane.second_ring)
+        if (u != v0) push_edge(lane, w, u);
     }
+  }
+
+  // One partition's share of a round.
+  void run_partition(Lane& lane, std::uint32_t threshold, double max_error) {
+    HeapEntry entry;
+    while (!lane.done && lane.heap.pop_at_most(threshold, entry)) {
+      if (is_stale(entry)) continue;
+      if (!is_deep(entry.v0, entry.v1)) {
+        lane.leftover.push_back(entry);
+        continue;
+      }
+      CollapseProfile profile;
+      if (!prepare(entry, profile)) continue;
+      if (profile.error > max_error) {
+        lane.error_limited = true;
+        continue;
+      }
+      if (!legal(lane, profile)) {
+        ++lane.tally.rejected_collapses;
+        flags_[profile.v0] |= kRejected;
+        flags_[profile.v1] |= kRejected;
+        continue;
+      }
+      const std::size_t merged = vertex_faces_[profile.v0].size() + vertex_faces_[profile.v1].size();
+      if (lane.faces_removed + static_cast<std::size_t>(profile.num_removed) > lane.face_budget) {
+        lane.leftover.push_back(entry);
+        lane.done = true;
+        return;
+      }
+      if (!vertex_faces_.make_room(profile.v0, merged)) {  // its region is full: leave it to the serial phase
+        lane.leftover.push_back(entry);
+        continue;
+      }
+      collapse(lane, profile, lane.tally);
+      maybe_compact_heap(lane);
+    }
+  }
+
+  // True when neither end nor any neighbour of either end has a neighbour in another
+  // partition. Then everything a collapse of the edge reads or writes (the two rings, the
+  // faces around them, the second ring it re-costs) belongs to the partition, and no
+  // collapse elsewhere writes any of it: a collapse elsewhere changes only vertices that are
+  // not cut and faces around them, and merging two such vertices adds no edge between
+  // partitions, so the cut vertices stay the same through the phase.
+  bool is_deep(VertexIndex v0, VertexIndex v1) const {
+    if ((flags_[v0] | flags_[v1]) & kCut) return false;
+    for (VertexIndex v : {v0, v1})
+      for (std::uint32_t f : vertex_faces_[v])
+        for (VertexIndex w : faces_[f])
+          if (flags_[w] & kCut) return false;
+    return true;
+  }
+
+  // The end of the parallel phase: one queue from every partition's, in partition order
+  // (stale entries dropped), clocks and marks above every lane's, the tallies summed.
+  void join_partitions(SimplifyResult& result) {
+    std::size_t entries = 0;
+    for (const Lane& lane : lanes_) entries += lane.heap.size() + lane.leftover.size();
+    std::vector<HeapEntry> all;
+    all.reserve(entries);
+    auto stale = [this](const HeapEntry& e) { return is_stale(e); };
+    for (Lane& lane : lanes_) {
+      const std::size_t from = all.size();
+      lane.heap.take_all(all);
+      all.insert(all.end(), lane.leftover.begin(), lane.leftover.end());
+      std::vector<HeapEntry>().swap(lane.leftover);
+      all.erase(std::remove_if(all.begin() + static_cast<std::ptrdiff_t>(from), all.end(), stale), all.end());
+      serial_.clock = std::max(serial_.clock, lane.clock);
+      serial_.mark_id = std::max(serial_.mark_id, lane.mark_id);
+      serial_.error_limited = serial_.error_limited || lane.error_limited;
+      result.collapses += lane.tally.collapses;
+      result.parallel_collapses += lane.tally.collapses;
+      result.rejected_collapses += lane.tally.rejected_collapses;
+      result.max_error = std::max(result.max_error, lane.tally.max_error);
+    }
+    lanes_.clear();
+    serial_.heap.assign(std::move(all));
+    for (std::uint8_t& f : flags_) f &= static_cast<std::uint8_t>(~kCut);
+    vertex_faces_.join_regions();
   }
 
   void report_progress() {
@@ -685,21 +926,17 @@ class CollapseEngine {
 
   // Drops stale entries once the heap holds 3× the live edges, bounding its memory (at 4× the
   // heap was the engine's largest allocation).
-  void maybe_compact_heap() {
-    const std::size_t live_edges = faces_alive_ * 3 / 2 + 1024;
-    if (heap_.size() < 3 * live_edges) return;
-    heap_.remove_if([this](const HeapEntry& e) { return is_stale(e); });
+  void maybe_compact_heap(Lane& lane) {
+    const std::size_t faces = lane.partition ? lane.faces_at_start - lane.faces_removed : faces_alive_;
+    const std::size_t live_edges = faces * 3 / 2 + 1024;
+    if (lane.heap.size() < 3 * live_edges) return;
+    lane.heap.remove_if([this](const HeapEntry& e) { return is_stale(e); });
   }
 
   const Mesh& input_;
   UnitFrame frame_;
   double cos_max_normal_change_;
   bool prevent_folds_ = false;
-  struct MovedFace {
-    std::uint32_t face;
-    Vec3 n_old, n_new;  // unnormalised normals before and after the candidate collapse
-  };
-  std::vector<MovedFace> moved_faces_;  // scratch of legal()
   std::vector<Vec3> positions_;         // unit frame
   std::vector<Face> faces_;
   std::vector<std::uint8_t> face_alive_;
@@ -725,12 +962,10 @@ class CollapseEngine {
   std::vector<std::uint32_t> modified_;  // clock of the vertex's last change
   static constexpr VertexIndex kNoOrigin = 0xffffffffu;
   std::vector<VertexIndex> origin_;  // input vertex whose exact position v holds, or kNoOrigin
-  std::vector<std::uint32_t> mark_;
-  std::uint32_t mark_id_ = 0;
-  std::uint32_t clock_ = 0;
-  detail::RadixHeap<HeapEntry> heap_;
-  std::vector<VertexIndex> ring_, second_ring_;
-  bool error_limited_ = false;
+  std::vector<std::uint32_t> mark_;  // see fresh_mark
+  Lane serial_;                      // the serial loop's queue and scratch
+  std::vector<Lane> lanes_;          // one per partition, during the parallel phase
+  std::uint32_t first_threshold_ = 0;
   SimplifyObserver* observer_ = nullptr;
   std::size_t planned_ = 0, report_every_ = 1, next_report_ = 0;
 };
@@ -783,6 +1018,17 @@ std::size_t resolve_target(const Mesh& input, const SimplifyOptions& options) {
              : static_cast<std::size_t>(std::llround(options.target_ratio * double(input.num_faces())));
 }
 
+// Whether a run to `target` starts with the parallel phase: not for a caller's cost (which
+// need not be thread-safe), not for a mesh of one partition, and only for targets the phase
+// cannot pass (it ends at or above alive - Σ budgets >= alive - 7/10 alive faces). The thread
+// count plays no part: one thread runs the same phase.
+bool uses_parallel_phase(const Mesh& input, const SimplifyOptions& options, std::size_t target) {
+  if (options.collapse_cost != nullptr || input.num_vertices() < 2 * kPartitionVertices) return false;
+  std::size_t alive = 0;  // the faces the engine starts with (repeated indices dropped)
+  for (const Face& f : input.faces) alive += f[0] != f[1] && f[1] != f[2] && f[0] != f[2];
+  return target <= alive - alive * kPhaseBudgetTenths / 10;
+}
+
 SimplifyResult start_result(const Mesh& input) {
   SimplifyResult result;
   result.faces_in = input.num_faces();
@@ -812,10 +1058,12 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   if (out.result.faces_in <= out.result.target_faces) {
     out.mesh = input;
   } else {
-    CollapseEngine engine(input, options);
+    const bool parallel = uses_parallel_phase(input, options, out.result.target_faces);
+    CollapseEngine engine(input, options, parallel, options.threads);
     out.result.locked_vertices = engine.locked_vertices();
     out.result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.set_observer(observer, out.result.target_faces);
+    if (parallel) engine.run_parallel_phase(options.max_error, options.threads, out.result);
     std::vector<HeapEntry> deferred;
     engine.run(out.result.target_faces, options.max_error, out.result, deferred, false);
     if (observer) observer->on_progress(1.0);
@@ -837,55 +1085,66 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
   require_valid(input, "simplify input");
   check_visibility(input, options);
 
-  // Largest target first; equal targets share one snapshot.
+  // Largest target first; equal targets share one snapshot. Targets the parallel phase
+  // cannot pass share one engine that runs it first; the others (if any) another that does
+  // not, so every level is what simplify() to its target gives.
   std::vector<std::size_t> order(targets.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return targets[x] > targets[y]; });
+  std::vector<std::size_t> serial_levels, parallel_levels;
+  for (std::size_t i : order)
+    (uses_parallel_phase(input, options, targets[i]) ? parallel_levels : serial_levels).push_back(i);
 
   std::vector<Simplified> out(targets.size());
-  CollapseEngine engine(input, options);
-  engine.set_observer(observer, checked.target_faces);
-  SimplifyResult running = start_result(input);
-  running.locked_vertices = engine.locked_vertices();
-  running.dropped_faces = engine.dropped_repeated_index_faces();
-  std::vector<HeapEntry> deferred;
-  std::optional<HeapEntry> pending;  // where the previous level stopped, taken first by the next
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::size_t target = targets[order[k]];
-    Simplified& level = out[order[k]];
-    if (k > 0 && target == targets[order[k - 1]]) {
-      level = out[order[k - 1]];
-      continue;
-    }
-    running.target_faces = target;
-    if (input.num_faces() <= target) {
-      level.mesh = input;
-      level.result = running;
+  auto run_levels = [&](const std::vector<std::size_t>& levels, bool parallel) {
+    if (levels.empty()) return;
+    CollapseEngine engine(input, options, parallel, options.threads);
+    engine.set_observer(observer, targets[levels.back()]);
+    SimplifyResult running = start_result(input);
+    running.locked_vertices = engine.locked_vertices();
+    running.dropped_faces = engine.dropped_repeated_index_faces();
+    if (parallel) engine.run_parallel_phase(options.max_error, options.threads, running);
+    std::vector<HeapEntry> deferred;
+    std::optional<HeapEntry> pending;  // where the previous level stopped, taken first by the next
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      const std::size_t target = targets[levels[k]];
+      Simplified& level = out[levels[k]];
+      if (k > 0 && target == targets[levels[k - 1]]) {
+        level = out[levels[k - 1]];
+        continue;
+      }
+      running.target_faces = target;
+      if (input.num_faces() <= target) {
+        level.mesh = input;
+        level.result = running;
+        finish_result(level, start);
+        continue;
+      }
+      deferred.clear();
+      const HeapEntry* first = pending ? &*pending : nullptr;
+      engine.run(target, options.max_error, running, deferred, true, first);
+      pending.reset();
+      if (deferred.empty()) {  // reached (or stuck): exactly where simplify() to this target ends
+        SimplifyResult result = running;
+        std::vector<HeapEntry> none;
+        engine.run(target, options.max_error, result, none, false);  // only sets the stop reason
+        level.mesh = engine.extract();
+        level.result = result;
+      } else {
+        // simplify() to this target would now keep looking for a collapse that hits it exactly
+        // and consume the queue doing so: do that on a copy, and go on from here with the entry.
+        CollapseEngine finisher = engine;
+        finisher.set_observer(nullptr, target);
+        level.result = running;
+        finisher.run(target, options.max_error, level.result, deferred, false);
+        level.mesh = finisher.extract();
+        pending = deferred.front();
+      }
       finish_result(level, start);
-      continue;
     }
-    deferred.clear();
-    const HeapEntry* first = pending ? &*pending : nullptr;
-    engine.run(target, options.max_error, running, deferred, true, first);
-    pending.reset();
-    if (deferred.empty()) {  // reached (or stuck): exactly where simplify() to this target ends
-      SimplifyResult result = running;
-      std::vector<HeapEntry> none;
-      engine.run(target, options.max_error, result, none, false);  // only sets the stop reason
-      level.mesh = engine.extract();
-      level.result = result;
-    } else {
-      // simplify() to this target would now keep looking for a collapse that hits it exactly
-      // and consume the queue doing so: do that on a copy, and go on from here with the entry.
-      CollapseEngine finisher = engine;
-      finisher.set_observer(nullptr, target);
-      level.result = running;
-      finisher.run(target, options.max_error, level.result, deferred, false);
-      level.mesh = finisher.extract();
-      pending = deferred.front();
-    }
-    finish_result(level, start);
-  }
+  };
+  run_levels(serial_levels, false);
+  run_levels(parallel_levels, true);
   if (observer) observer->on_progress(1.0);
   return out;
 }

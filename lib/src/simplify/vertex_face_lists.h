@@ -79,8 +79,58 @@ class VertexFaceLists {
       const std::uint32_t f = pool_[s.offset + i];
       if (keep(f)) pool_[t.offset + t.size++] = f;
     }
-    dead_ += s.capacity;
+    if (regions_.empty()) dead_ += s.capacity;  // regions are packed by their own rewrite
     s = Slot{};
+  }
+
+  /// Splits the pool into regions of `vertices_per_region` consecutive vertices, each holding
+  /// its vertices' lists followed by room to grow (`slack` times their length). A list that
+  /// outgrows its slice then moves within its region, never to the shared end: regions share
+  /// no memory and the pool is not resized, so threads may change lists of vertices in
+  /// different regions at once (simplify's parallel phase).
+  void split_into_regions(std::size_t vertices_per_region, double slack) {
+    vertices_per_region_ = vertices_per_region;
+    const std::size_t count = (slots_.size() + vertices_per_region - 1) / vertices_per_region;
+    std::vector<std::size_t> live(count, 0);
+    for (std::size_t v = 0; v < slots_.size(); ++v) live[v / vertices_per_region] += slots_[v].size;
+    std::size_t total = 0;
+    for (std::size_t n : live) total += n + static_cast<std::size_t>(slack * double(n)) + 8;
+    std::vector<std::uint32_t> packed(total);
+    regions_.assign(count, Region{});
+    std::size_t at = 0;
+    for (std::size_t r = 0; r < count; ++r) {
+      regions_[r].begin = at;
+      const std::size_t last = std::min(slots_.size(), (r + 1) * vertices_per_region);
+      for (std::size_t v = r * vertices_per_region; v < last; ++v) {
+        Slot& s = slots_[v];
+        std::copy_n(pool_.begin() + s.offset, s.size, packed.begin() + at);
+        s.offset = checked_offset(at);
+        s.capacity = s.size;
+        at += s.size;
+      }
+      regions_[r].next = at;
+      at += static_cast<std::size_t>(slack * double(live[r])) + 8;
+      regions_[r].end = at;
+    }
+    checked_offset(at);
+    pool_.swap(packed);
+    dead_ = 0;
+  }
+
+  /// Back to one pool in vertex order (after the parallel phase).
+  void join_regions() {
+    regions_.clear();
+    compact();
+  }
+
+  /// With regions: true when v's list can grow to `needed` entries inside its region,
+  /// rewriting the region's lists packed if that is what makes room. Without regions: true.
+  bool make_room(std::size_t v, std::size_t needed) {
+    if (regions_.empty() || needed <= slots_[v].capacity) return true;
+    const std::size_t r = v / vertices_per_region_;
+    if (regions_[r].end - regions_[r].next >= grown_capacity(needed)) return true;
+    compact_region(r);
+    return regions_[r].end - regions_[r].next >= grown_capacity(needed);
   }
 
   std::size_t memory_bytes() const {
@@ -100,9 +150,21 @@ class VertexFaceLists {
   // Room for `needed` entries in v's slice: the list moves to the end of the pool with room to
   // grow (collapses keep merging into the same survivors). Before the pool would reallocate,
   // it is rewritten if a fifth of it is dead slices.
+  static std::size_t grown_capacity(std::size_t needed) { return std::max<std::size_t>(needed + needed / 2, 8); }
+
   void reserve(std::size_t v, std::size_t needed) {
     if (needed <= slots_[v].capacity) return;
-    const std::size_t capacity = std::max<std::size_t>(needed + needed / 2, 8);
+    const std::size_t capacity = grown_capacity(needed);
+    if (!regions_.empty()) {  // make_room has made sure the region has it
+      Region& r = regions_[v / vertices_per_region_];
+      if (r.end - r.next < capacity) throw std::logic_error("VertexFaceLists: no room left in a region");
+      Slot& s = slots_[v];
+      std::copy_n(pool_.begin() + s.offset, s.size, pool_.begin() + r.next);
+      s.offset = static_cast<std::uint32_t>(r.next);
+      s.capacity = static_cast<std::uint32_t>(capacity);
+      r.next += capacity;
+      return;
+    }
     if (pool_.size() + capacity > pool_.capacity() && dead_ > pool_.size() / 5) compact();
     Slot& s = slots_[v];
     const std::uint32_t offset = checked_offset(pool_.size());
@@ -130,7 +192,30 @@ class VertexFaceLists {
     dead_ = 0;
   }
 
+  // Rewrites region r's lists packed from its start, in vertex order.
+  void compact_region(std::size_t r) {
+    Region& region = regions_[r];
+    const std::size_t first = r * vertices_per_region_, last = std::min(slots_.size(), first + vertices_per_region_);
+    std::vector<std::uint32_t> packed;
+    packed.reserve(region.next - region.begin);
+    for (std::size_t v = first; v < last; ++v) {
+      Slot& s = slots_[v];
+      const std::uint32_t offset = static_cast<std::uint32_t>(region.begin + packed.size());
+      packed.insert(packed.end(), pool_.begin() + s.offset, pool_.begin() + s.offset + s.size);
+      s.offset = offset;
+      s.capacity = s.size;
+    }
+    std::copy(packed.begin(), packed.end(), pool_.begin() + region.begin);
+    region.next = region.begin + packed.size();
+  }
+
+  struct Region {
+    std::size_t begin = 0, next = 0, end = 0;  // [begin, next) in use, [next, end) free
+  };
+
   std::vector<Slot> slots_;
+  std::vector<Region> regions_;  // empty outside the parallel phase
+  std::size_t vertices_per_region_ = 0;
   std::vector<std::uint32_t> pool_;
   std::size_t dead_ = 0;  // entries of the pool no list uses
 };

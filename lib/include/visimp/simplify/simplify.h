@@ -90,6 +90,9 @@ struct SimplifyOptions {
   /// With collapse_cost: empty, or one weight per input vertex, handed to the cost; a merged
   /// vertex keeps the larger weight of the two.
   std::vector<float> vertex_weights;
+  /// Worker threads (0: one per hardware thread). The result is the same for every count: the
+  /// parallel phase's partitions do not depend on it (docs/simplify.md, "Two cores").
+  unsigned threads = 0;
 };
 
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
@@ -112,6 +115,7 @@ struct SimplifyResult {
   std::size_t vertices_in = 0, vertices_out = 0;
   std::size_t target_faces = 0;  ///< the target in effect (0 when only max_error stops)
   std::size_t collapses = 0;
+  std::size_t parallel_collapses = 0;  ///< of `collapses`, those of the parallel phase (docs/simplify.md, "Two cores")
   std::size_t rejected_collapses = 0;  ///< candidates refused by a legality filter (counted per attempt)
   std::size_t locked_vertices = 0;     ///< vertices never moved: non-manifold, misoriented, frozen boundary
   std::size_t dropped_faces = 0;       ///< input faces with a repeated vertex index, removed first (no area, no fan)
