@@ -185,6 +185,13 @@ int run_simplify(const Args& args) {
           .field("max_error_relative", r.max_error)
           .field("max_error", r.max_error * diagonal)
           .field("seconds_simplify", r.seconds)
+          .key("stage_seconds")
+          .begin_object()
+          .field("setup", r.stage_seconds.setup)
+          .field("parallel_phase", r.stage_seconds.parallel_phase)
+          .field("serial", r.stage_seconds.serial)
+          .field("extract", r.stage_seconds.extract)
+          .end_object()
           .end_object();
     }
     json.end_array();

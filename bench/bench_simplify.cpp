@@ -1,10 +1,12 @@
 // Simplification benchmark: visimp QB against meshoptimizer, CGAL (Garland-Heckbert plane
 // policies) and OpenMesh (Decimater + ModQuadricT), on the same meshes, in one run.
 //
-// Each method runs in a forked child (child_process.h) so its CPU time and peak memory are its
-// own (building the peer's mesh structure included). The parent then measures every
-// result against the input with the same sampled two-sided distance (visimp metrics, 1M
-// samples per direction, fixed seed) and prints ratios against visimp.
+// Each method runs in a forked child (child_process.h) so its CPU time, wall time and peak
+// memory are its own (building the peer's mesh structure included). visimp runs twice: on
+// every core (its default) and with one thread, and the two outputs must be the same bytes.
+// The parent then measures every result against the input with the same sampled two-sided
+// distance (visimp metrics, 1M samples per direction, fixed seed), prints ratios against
+// visimp, and ends with issue 22's goals per mesh and ratio.
 //
 // usage: bench_simplify [--vg-overhead] [--cpu-limit S] [MESH.ply ...]
 //          (default meshes: dragon, kicad_dsub62_male, fandisk_cad)
@@ -30,6 +32,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,9 +50,17 @@ using visimp::Mesh;
 using visimp::Vec3;
 using visimp::VertexIndex;
 
+// Every core (the default), and one thread: the same mesh, bit for bit (checked below).
 Mesh run_visimp(const Mesh& in, std::size_t target) {
   visimp::SimplifyOptions o;
   o.target_faces = target;
+  return visimp::simplify(in, o).mesh;
+}
+
+Mesh run_visimp_one_thread(const Mesh& in, std::size_t target) {
+  visimp::SimplifyOptions o;
+  o.target_faces = target;
+  o.threads = 1;
   return visimp::simplify(in, o).mesh;
 }
 
@@ -121,7 +132,7 @@ Mesh run_openmesh(const Mesh& in, std::size_t target) {
 struct Measured {
   bool ok = false;
   std::size_t faces = 0;
-  double cpu = 0, peak_mb = 0, hausdorff = 0, rms = 0;
+  double cpu = 0, wall = 0, peak_mb = 0, hausdorff = 0, rms = 0;
 };
 
 // Runs `method` in a child (child_process.h) that writes its mesh to `path`, then measures
@@ -129,13 +140,13 @@ struct Measured {
 Measured measure(const Mesh& input, std::size_t target, const std::function<Mesh(const Mesh&, std::size_t)>& method,
                  const std::string& path, double cpu_limit) {
   const bench::ChildResult child = bench::run_in_child(
-      1,
+      2,
       [&] {
-        const double t0 = bench::cpu_seconds();
+        const double c0 = bench::cpu_seconds(), w0 = bench::wall_seconds();
         const Mesh out = method(input, target);
-        const double cpu = bench::cpu_seconds() - t0;
+        const double cpu = bench::cpu_seconds() - c0, wall = bench::wall_seconds() - w0;
         visimp::write_mesh(out, path);
-        return std::vector<double>{cpu};
+        return std::vector<double>{cpu, wall};
       },
       cpu_limit);
   Measured m;
@@ -147,6 +158,7 @@ Measured measure(const Mesh& input, std::size_t target, const std::function<Mesh
   m.ok = true;
   m.faces = out.num_faces();
   m.cpu = child.values[0];  // the method alone, not writing its result
+  m.wall = child.values[1];
   m.peak_mb = child.peak_mb;
   m.hausdorff = dist.hausdorff / dist.diagonal;
   m.rms = dist.rms / dist.diagonal;
@@ -249,36 +261,56 @@ int run(const std::vector<std::string>& args) {
                                                       {"fandisk_cad.ply", "fandisk_cad.ply"}});
   }
   const std::vector<std::pair<const char*, std::function<Mesh(const Mesh&, std::size_t)>>> methods = {
-      {"visimp-qb", run_visimp}, {"meshopt", run_meshopt}, {"cgal-gh", run_cgal}, {"openmesh", run_openmesh}};
-  const std::string tmp = "/tmp/visimp_bench_" + std::to_string(getpid()) + ".ply";
+      {"visimp-qb", run_visimp},
+      {"visimp-qb-1t", run_visimp_one_thread},
+      {"meshopt", run_meshopt},
+      {"cgal-gh", run_cgal},
+      {"openmesh", run_openmesh}};
+  const std::string tmp = "/tmp/visimp_bench_" + std::to_string(getpid());
+  auto output_of = [&](const std::string& label) { return tmp + "_" + label + ".ply"; };
   std::printf(
-      "| mesh | faces in | ratio | method | faces out | CPU s | peak MB | B/tri | Hausdorff/diag | RMS/diag | CPU vs "
-      "visimp | Hausdorff vs visimp | RMS vs visimp |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| mesh | faces in | ratio | method | faces out | CPU s | wall s | peak MB | B/tri | Hausdorff/diag | RMS/diag | "
+      "CPU vs visimp | Hausdorff vs visimp | RMS vs visimp |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  // Issue 22's goals per mesh and ratio: visimp's wall time against meshoptimizer's CPU time,
+  // the errors against CGAL GH's, and the same bytes for one thread and all of them.
+  std::string goals =
+      "| mesh | ratio | visimp wall / meshopt CPU (goal <= 2) | Hausdorff / CGAL GH (<= 1.05) | RMS / CGAL GH (<= 1.05) "
+      "| same bytes, 1 and all threads |\n|---|---|---|---|---|---|\n";
   for (const std::string& path : meshes) {
     if (overhead_only) break;
     const Mesh input = visimp::read_mesh(path);
     const std::string name = path.substr(path.find_last_of('/') + 1);
     for (double ratio : {0.1, 0.01}) {
       const std::size_t target = std::size_t(ratio * double(input.num_faces()));
-      Measured ref;
+      std::map<std::string, Measured> row;
       for (const auto& [label, method] : methods) {
-        const Measured m = measure(input, target, method, tmp, cpu_limit);
+        const Measured m = measure(input, target, method, output_of(label), cpu_limit);
         if (!m.ok) {
-          std::printf("| %s | %zu | %g | %s | failed (crash or over %g CPU s) | | | | | | | | |\n", name.c_str(),
+          std::printf("| %s | %zu | %g | %s | failed (crash or over %g CPU s) | | | | | | | | | |\n", name.c_str(),
                       input.num_faces(), ratio, label, cpu_limit);
           continue;
         }
-        if (std::string(label) == "visimp-qb") ref = m;
-        std::printf("| %s | %zu | %g | %s | %zu | %.3f | %.1f | %.0f | %.3e | %.3e | %.2f | %.2f | %.2f |\n",
-                    name.c_str(), input.num_faces(), ratio, label, m.faces, m.cpu, m.peak_mb,
+        row[label] = m;
+        const Measured& ref = row["visimp-qb"];
+        std::printf("| %s | %zu | %g | %s | %zu | %.3f | %.3f | %.1f | %.0f | %.3e | %.3e | %.2f | %.2f | %.2f |\n",
+                    name.c_str(), input.num_faces(), ratio, label, m.faces, m.cpu, m.wall, m.peak_mb,
                     m.peak_mb * 1048576.0 / double(input.num_faces()), m.hausdorff, m.rms, m.cpu / ref.cpu,
                     m.hausdorff / ref.hausdorff, m.rms / ref.rms);
         std::fflush(stdout);
       }
+      const Measured &visimp = row["visimp-qb"], &meshopt = row["meshopt"], &cgal = row["cgal-gh"];
+      const bool same = visimp.ok && row["visimp-qb-1t"].ok &&
+                        bench::file_bytes(output_of("visimp-qb")) == bench::file_bytes(output_of("visimp-qb-1t"));
+      char line[512];
+      std::snprintf(line, sizeof line, "| %s | %g | %.2f | %.2f | %.2f | %s |\n", name.c_str(), ratio,
+                    visimp.wall / meshopt.cpu, visimp.hausdorff / cgal.hausdorff, visimp.rms / cgal.rms,
+                    same ? "yes" : "NO");
+      goals += line;
     }
   }
-  std::remove(tmp.c_str());
+  for (const auto& [label, method] : methods) std::remove(output_of(label).c_str());
+  if (!overhead_only) std::printf("\nGoals (issue 22):\n\n%s", goals.c_str());
   std::printf("\nVG overhead over QB with V known (258 cameras, 480²; 9 interleaved rounds):\n\n");
   std::printf(
       "| mesh | ratio | QB min CPU s | VG (V = 1) min CPU s | vs QB (min) | vs QB (median of rounds) | "

@@ -117,7 +117,10 @@ py::dict result_dict(const SimplifyResult& r) {
                   "vertices_out"_a = r.vertices_out, "target_faces"_a = r.target_faces, "collapses"_a = r.collapses,
                   "parallel_collapses"_a = r.parallel_collapses, "rejected_collapses"_a = r.rejected_collapses, "locked_vertices"_a = r.locked_vertices,
                   "dropped_faces"_a = r.dropped_faces, "max_error"_a = r.max_error,
-                  "stop_reason"_a = to_string(r.stop_reason), "seconds"_a = r.seconds);
+                  "stop_reason"_a = to_string(r.stop_reason), "seconds"_a = r.seconds,
+                  "stage_seconds"_a = py::dict("setup"_a = r.stage_seconds.setup,
+                                               "parallel_phase"_a = r.stage_seconds.parallel_phase,
+                                               "serial"_a = r.stage_seconds.serial, "extract"_a = r.stage_seconds.extract));
 }
 
 py::tuple simplified_tuple(const Simplified& s) {

@@ -253,9 +253,21 @@ TEST(SimplifyParallel, LevelsOnBothSidesOfThePhaseEqualSeparateRuns) {
   expect_levels_equal_separate_runs(m, SimplifyOptions{}, {m.num_faces() / 2, m.num_faces() * 3 / 10, 9001});
   SimplifyOptions o;
   o.target_faces = m.num_faces() / 2;
-  EXPECT_EQ(simplify(m, o).result.parallel_collapses, 0u);
+  const SimplifyResult serial = simplify(m, o).result;
+  EXPECT_EQ(serial.parallel_collapses, 0u);
+  EXPECT_EQ(serial.stage_seconds.parallel_phase, 0.0);
   o.target_faces = 9001;
-  EXPECT_GT(simplify(m, o).result.parallel_collapses, 0u);
+  const SimplifyResult parallel = simplify(m, o).result;
+  EXPECT_GT(parallel.parallel_collapses, 0u);
+  // The stages account for the run: each took time, and together no more than the whole.
+  for (const SimplifyResult& r : {serial, parallel}) {
+    const SimplifyStageSeconds& s = r.stage_seconds;
+    EXPECT_GT(s.setup, 0.0);
+    EXPECT_GT(s.serial, 0.0);
+    EXPECT_GT(s.extract, 0.0);
+    EXPECT_LE(s.setup + s.parallel_phase + s.serial + s.extract, r.seconds);
+  }
+  EXPECT_GT(parallel.stage_seconds.parallel_phase, 0.0);
 }
 
 TEST(SimplifyLevels, TargetsAboveTheInputKeepIt) {

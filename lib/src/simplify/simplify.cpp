@@ -1029,6 +1029,20 @@ bool uses_parallel_phase(const Mesh& input, const SimplifyOptions& options, std:
   return target <= alive - alive * kPhaseBudgetTenths / 10;
 }
 
+// Seconds since the last lap (or since it was made).
+class StageClock {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 SimplifyResult start_result(const Mesh& input) {
   SimplifyResult result;
   result.faces_in = input.num_faces();
@@ -1058,16 +1072,22 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   if (out.result.faces_in <= out.result.target_faces) {
     out.mesh = input;
   } else {
+    SimplifyStageSeconds& stage = out.result.stage_seconds;
+    StageClock clock;
     const bool parallel = uses_parallel_phase(input, options, out.result.target_faces);
     CollapseEngine engine(input, options, parallel, options.threads);
     out.result.locked_vertices = engine.locked_vertices();
     out.result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.set_observer(observer, out.result.target_faces);
+    stage.setup = clock.lap();
     if (parallel) engine.run_parallel_phase(options.max_error, options.threads, out.result);
+    stage.parallel_phase = clock.lap();
     std::vector<HeapEntry> deferred;
     engine.run(out.result.target_faces, options.max_error, out.result, deferred, false);
     if (observer) observer->on_progress(1.0);
+    stage.serial = clock.lap();
     out.mesh = engine.extract();
+    stage.extract = clock.lap();
   }
   finish_result(out, start);
   return out;
@@ -1098,12 +1118,15 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
   std::vector<Simplified> out(targets.size());
   auto run_levels = [&](const std::vector<std::size_t>& levels, bool parallel) {
     if (levels.empty()) return;
+    StageClock clock;
     CollapseEngine engine(input, options, parallel, options.threads);
     engine.set_observer(observer, targets[levels.back()]);
     SimplifyResult running = start_result(input);
     running.locked_vertices = engine.locked_vertices();
     running.dropped_faces = engine.dropped_repeated_index_faces();
+    running.stage_seconds.setup = clock.lap();
     if (parallel) engine.run_parallel_phase(options.max_error, options.threads, running);
+    running.stage_seconds.parallel_phase = clock.lap();
     std::vector<HeapEntry> deferred;
     std::optional<HeapEntry> pending;  // where the previous level stopped, taken first by the next
     for (std::size_t k = 0; k < levels.size(); ++k) {
@@ -1123,11 +1146,13 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
       deferred.clear();
       const HeapEntry* first = pending ? &*pending : nullptr;
       engine.run(target, options.max_error, running, deferred, true, first);
+      running.stage_seconds.serial += clock.lap();
       pending.reset();
       if (deferred.empty()) {  // reached (or stuck): exactly where simplify() to this target ends
         SimplifyResult result = running;
         std::vector<HeapEntry> none;
         engine.run(target, options.max_error, result, none, false);  // only sets the stop reason
+        result.stage_seconds.serial += clock.lap();
         level.mesh = engine.extract();
         level.result = result;
       } else {
@@ -1137,9 +1162,11 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
         finisher.set_observer(nullptr, target);
         level.result = running;
         finisher.run(target, options.max_error, level.result, deferred, false);
+        level.result.stage_seconds.serial += clock.lap();
         level.mesh = finisher.extract();
         pending = deferred.front();
       }
+      level.result.stage_seconds.extract = clock.lap();
       finish_result(level, start);
     }
   };

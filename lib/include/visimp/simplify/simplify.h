@@ -110,6 +110,14 @@ enum class StopReason {
 };
 const char* to_string(StopReason reason);
 
+/// Where SimplifyResult::seconds went (docs/simplify.md, "Where the time goes").
+struct SimplifyStageSeconds {
+  double setup = 0;           ///< the engine: spatial order, face lists, quadrics, the costed queue
+  double parallel_phase = 0;  ///< 0 when the run does not use it
+  double serial = 0;          ///< the collapse loop after it (for a level: every run up to that level)
+  double extract = 0;         ///< the mesh out, in input order
+};
+
 struct SimplifyResult {
   std::size_t faces_in = 0, faces_out = 0;
   std::size_t vertices_in = 0, vertices_out = 0;
@@ -123,6 +131,7 @@ struct SimplifyResult {
   double max_error = 0;
   StopReason stop_reason = StopReason::nothing_to_do;
   double seconds = 0;
+  SimplifyStageSeconds stage_seconds;
 };
 
 /// Progress and tracing; the default does nothing.
