@@ -44,6 +44,18 @@ TEST(Quadric, NearlySingularPlacementStaysNearTheEdge) {
   EXPECT_TRUE(is_finite(p.position));
 }
 
+TEST(Quadric, CreaseIsSolvedAcrossAndKeepsTheMidpointAlong) {
+  // Planes x = 1 and y = 2 meet in a line along z: A has rank 2. The point goes onto the line
+  // (up to the damping, 1e-3 of the way) and keeps the midpoint's z exactly.
+  const Quadric q = Quadric::plane({1, 0, 0}, {1, 0, 0}, 1) + Quadric::plane({0, 1, 0}, {0, 2, 0}, 1);
+  const Placement p = place(q, {0, 0, 0.3}, {1, 1, 0.7});
+  EXPECT_EQ(p.kind, PlacementKind::pseudo_inverse);
+  EXPECT_NEAR(p.position.x, 1.0, 2e-3);
+  EXPECT_NEAR(p.position.y, 2.0, 4e-3);
+  EXPECT_EQ(p.position.z, 0.5);
+  EXPECT_LT(p.error, 1e-5);
+}
+
 TEST(Quadric, EmptyQuadricKeepsAnEndpoint) {
   const Placement p = place(Quadric{}, {1, 2, 3}, {4, 5, 6});
   EXPECT_EQ(p.position, (Vec3{1, 2, 3}));

@@ -1080,8 +1080,10 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
     out.result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.set_observer(observer, out.result.target_faces);
     stage.setup = clock.lap();
-    if (parallel) engine.run_parallel_phase(options.max_error, options.threads, out.result);
-    stage.parallel_phase = clock.lap();
+    if (parallel) {
+      engine.run_parallel_phase(options.max_error, options.threads, out.result);
+      stage.parallel_phase = clock.lap();
+    }
     std::vector<HeapEntry> deferred;
     engine.run(out.result.target_faces, options.max_error, out.result, deferred, false);
     if (observer) observer->on_progress(1.0);
@@ -1125,8 +1127,10 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
     running.locked_vertices = engine.locked_vertices();
     running.dropped_faces = engine.dropped_repeated_index_faces();
     running.stage_seconds.setup = clock.lap();
-    if (parallel) engine.run_parallel_phase(options.max_error, options.threads, running);
-    running.stage_seconds.parallel_phase = clock.lap();
+    if (parallel) {
+      engine.run_parallel_phase(options.max_error, options.threads, running);
+      running.stage_seconds.parallel_phase = clock.lap();
+    }
     std::vector<HeapEntry> deferred;
     std::optional<HeapEntry> pending;  // where the previous level stopped, taken first by the next
     for (std::size_t k = 0; k < levels.size(); ++k) {

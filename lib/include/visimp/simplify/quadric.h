@@ -79,7 +79,8 @@ struct Quadric {
 enum class PlacementKind {
   optimal,         ///< A well conditioned: the unique minimiser of Q
   pseudo_inverse,  ///< A (near) singular: minimiser in the well-determined directions, the
-                   ///< rest taken from the edge midpoint (flat or cylindrical regions)
+                   ///< rest taken from the edge midpoint (flat or cylindrical regions), by a
+                   ///< damped solve (Q + kRankThreshold·trace·|x - mid|²)
   segment,         ///< the minimiser was unusable (too far away): best point on the edge
   endpoint0,       ///< endpoint p0 is as good as the minimiser (keeps its exact position)
   endpoint1,       ///< endpoint p1 is as good as the minimiser
