@@ -10,6 +10,9 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
@@ -136,6 +139,15 @@ constexpr double kPhaseGoal = 0.35;
 constexpr std::uint32_t kThresholdStep = std::uint32_t(1) << 22;
 constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
 
+// Hands the pages of freed blocks back to the system. The phase's queues grow and shrink on
+// every worker's malloc arena, and glibc keeps what they free: at 14M faces that was 800 MB of
+// resident memory no one used (peak 202 -> 186 B per input face with this after every round).
+void give_back_freed_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
 bool has_vertex(const Face& f, VertexIndex v) { return f[0] == v || f[1] == v || f[2] == v; }
 
 VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) {
@@ -259,6 +271,7 @@ class CollapseEngine {
       }
       faces_alive_ = start - removed;
       report_progress();
+      give_back_freed_memory();
       if (faces_alive_ <= goal || lowest_left > kLastFiniteKey || threshold >= kLastFiniteKey) break;
       // The next threshold, skipping rounds in which nothing would be collapsed.
       threshold = std::max(lowest_left, threshold > kLastFiniteKey - kThresholdStep ? kLastFiniteKey
@@ -915,6 +928,7 @@ class CollapseEngine {
     serial_.heap.assign(std::move(all));
     for (std::uint8_t& f : flags_) f &= static_cast<std::uint8_t>(~kCut);
     vertex_faces_.join_regions();
+    give_back_freed_memory();
   }
 
   void report_progress() {
