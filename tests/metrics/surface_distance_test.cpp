@@ -54,6 +54,45 @@ TEST(SurfaceDistance, SameNumbersForAnyThreadCount) {
   EXPECT_EQ(d1.a_to_b.mean, d2.a_to_b.mean);
 }
 
+void expect_same_distance(const SurfaceDistance& x, const SurfaceDistance& y) {
+  EXPECT_EQ(x.hausdorff, y.hausdorff);
+  EXPECT_EQ(x.rms, y.rms);
+  EXPECT_EQ(x.diagonal, y.diagonal);
+  for (auto d : {&SurfaceDistance::a_to_b, &SurfaceDistance::b_to_a}) {
+    EXPECT_EQ((x.*d).max, (y.*d).max);
+    EXPECT_EQ((x.*d).mean, (y.*d).mean);
+    EXPECT_EQ((x.*d).samples, (y.*d).samples);
+    EXPECT_EQ((x.*d).histogram, (y.*d).histogram);
+  }
+  EXPECT_EQ(x.visible.rms, y.visible.rms);
+  EXPECT_EQ(x.vertex_error, y.vertex_error);
+  EXPECT_EQ(x.face_error, y.face_error);
+}
+
+TEST(SurfaceDistance, AKeptReferenceGivesTheSameNumbersAsSeparateCalls) {
+  // Against coarser, finer (more faces than A: the default sample counts follow B) and
+  // shifted surfaces, with options that change the plan between calls.
+  const Mesh a = test::icosphere(3, 1.0);
+  Mesh shifted = test::icosphere(2, 1.0);
+  for (Vec3& p : shifted.positions) p.x += 0.05;
+  const Mesh others[] = {test::icosphere(2, 1.0), test::icosphere(4, 1.02), shifted, test::icosphere(1, 0.9)};
+  SurfaceDistanceOptions fixed;
+  fixed.samples = 5000;
+  fixed.face_visibility.assign(a.num_faces(), 0.5f);
+  fixed.vertex_errors = true;
+  SurfaceDistanceOptions other_seed = fixed;
+  other_seed.seed = 7;
+  const SurfaceDistanceReference reference(a);
+  for (const SurfaceDistanceOptions& options : {fixed, SurfaceDistanceOptions{}, other_seed, fixed}) {
+    for (const Mesh& b : others) {
+      SCOPED_TRACE(std::to_string(b.num_faces()) + " faces, seed " + std::to_string(options.seed));
+      const SurfaceDistance kept = reference.distance_to(b, options), alone = surface_distance(a, b, options);
+      EXPECT_GT(alone.hausdorff, 0.0);
+      expect_same_distance(kept, alone);
+    }
+  }
+}
+
 TEST(SurfaceDistance, TranslatedCopyIsTheTranslationAway) {
   // Every point of the moved sphere is exactly |t| from its own original, so no sample can
   // be farther; the points moving straight out are nearly |t| from the surface.

@@ -134,10 +134,12 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   metro.face_visibility = r.visibility.face;
   const std::size_t total = r.qb.size() + r.vg.size();
   std::size_t done = 0;
+  // The input's index and samples once for all 2 x levels (at 14M faces: 20 s each time).
+  const SurfaceDistanceReference reference(input_with_v);
   for (std::vector<CompareLevel>* method : {&r.qb, &r.vg}) {
     for (CompareLevel& level : *method) {
       t = std::chrono::steady_clock::now();
-      level.distance = surface_distance(input_with_v, level.mesh, metro);
+      level.distance = reference.distance_to(level.mesh, metro);
       level.seconds_metro = seconds_since(t);
       t = std::chrono::steady_clock::now();
       level.image = image_error(input, level.mesh, options.image);

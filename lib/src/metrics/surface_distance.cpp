@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "visimp/core/bounding_box.h"
@@ -155,14 +157,17 @@ struct SampleDistances {
   double edge_max = 0;
 };
 
-SampleDistances measure(const Mesh& from, const SamplePlan& plan, const Mesh& to, int threads, double& seconds_index,
-                        double& seconds_queries) {
-  auto t = std::chrono::steady_clock::now();
-  const ClosestTriangleIndex index(to);
-  if (index.empty()) throw InvalidMeshError("surface distance: a mesh has no non-degenerate face");
-  seconds_index += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+std::unique_ptr<const ClosestTriangleIndex> build_index(const Mesh& to, double& seconds_index) {
+  const auto t = std::chrono::steady_clock::now();
+  auto index = std::make_unique<const ClosestTriangleIndex>(to);
+  if (index->empty()) throw InvalidMeshError("surface distance: a mesh has no non-degenerate face");
+  seconds_index += seconds_since(t);
+  return index;
+}
 
-  t = std::chrono::steady_clock::now();
+SampleDistances measure(const Mesh& from, const SamplePlan& plan, const ClosestTriangleIndex& index, int threads,
+                        double& seconds_queries) {
+  const auto t = std::chrono::steady_clock::now();
   SampleDistances d;
   d.vertex.resize(plan.vertices.size());
   d.face.resize(plan.face_offset.back());
@@ -278,10 +283,22 @@ VisibleDistance summarize_visible(const SamplePlan& plan, const SampleDistances&
 
 }  // namespace
 
-SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  const bool weighted = !options.face_visibility.empty();
-  if (weighted && options.face_visibility.size() != a.num_faces()) {
+// What a SurfaceDistanceReference keeps of A between calls.
+struct SurfaceDistanceReference::Cache {
+  std::mutex mutex;
+  std::unique_ptr<const ClosestTriangleIndex> index;
+  double diagonal = 0;
+  // A's sample plan and what it was made for.
+  std::unique_ptr<const SamplePlan> plan;
+  std::size_t count = 0, edges = 0;
+  std::uint64_t seed = 0;
+  FaceSampling sampling = FaceSampling::random;
+};
+
+namespace {
+
+void check_face_visibility(const Mesh& a, const SurfaceDistanceOptions& options) {
+  if (!options.face_visibility.empty() && options.face_visibility.size() != a.num_faces()) {
     throw InvalidMeshError("SurfaceDistanceOptions::face_visibility has " +
                            std::to_string(options.face_visibility.size()) + " values for " +
                            std::to_string(a.num_faces()) + " faces of A");
@@ -290,6 +307,15 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDist
     if (!(v >= 0 && v <= 1))
       throw InvalidMeshError("SurfaceDistanceOptions::face_visibility holds a value outside [0, 1]");
   }
+}
+
+// The whole measurement; with `cache` A's index, plan and diagonal come from it (made on
+// first use), and the numbers are the same as without.
+SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options,
+                                 SurfaceDistanceReference::Cache* cache) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool weighted = !options.face_visibility.empty();
+  check_face_visibility(a, options);
   std::size_t count = options.samples ? options.samples : 10 * std::max(a.num_faces(), b.num_faces());
   if (options.density > 0) {
     const MeshStats sa = analyze(a), sb = analyze(b);
@@ -297,30 +323,79 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDist
   }
   const std::size_t edges = options.edge_samples ? options.edge_samples : std::max(a.num_faces(), b.num_faces());
   SurfaceDistance r;
+  std::unique_ptr<const SamplePlan> own_plan;
+  std::unique_ptr<const ClosestTriangleIndex> own_index;
+  const SamplePlan* on_a = nullptr;
+  const ClosestTriangleIndex* index_of_a = nullptr;
+  std::unique_lock<std::mutex> lock;
   auto t = std::chrono::steady_clock::now();
-  const SamplePlan on_a = plan_samples(a, count, edges, options.seed, options.sampling);
+  if (cache != nullptr) {
+    lock = std::unique_lock<std::mutex>(cache->mutex);
+    const bool same_plan = cache->plan && cache->count == count && cache->edges == edges &&
+                           cache->seed == options.seed && cache->sampling == options.sampling;
+    if (!same_plan) {
+      cache->plan = std::make_unique<const SamplePlan>(plan_samples(a, count, edges, options.seed, options.sampling));
+      cache->count = count;
+      cache->edges = edges;
+      cache->seed = options.seed;
+      cache->sampling = options.sampling;
+    }
+    on_a = cache->plan.get();
+  } else {
+    own_plan = std::make_unique<const SamplePlan>(plan_samples(a, count, edges, options.seed, options.sampling));
+    on_a = own_plan.get();
+  }
   const SamplePlan on_b = plan_samples(b, count, edges, options.seed + 1, options.sampling);
   r.seconds_sampling = seconds_since(t);
-  const SampleDistances from_a = measure(a, on_a, b, options.threads, r.seconds_index, r.seconds_queries);
-  const SampleDistances from_b = measure(b, on_b, a, options.threads, r.seconds_index, r.seconds_queries);
+  SampleDistances from_a;
+  {  // one index at a time when nothing is kept: the larger mesh's is the largest allocation
+    const std::unique_ptr<const ClosestTriangleIndex> index_of_b = build_index(b, r.seconds_index);
+    from_a = measure(a, *on_a, *index_of_b, options.threads, r.seconds_queries);
+  }
+  if (cache != nullptr) {
+    if (!cache->index) cache->index = build_index(a, r.seconds_index);
+    index_of_a = cache->index.get();
+  } else {
+    own_index = build_index(a, r.seconds_index);
+    index_of_a = own_index.get();
+  }
+  const SampleDistances from_b = measure(b, on_b, *index_of_a, options.threads, r.seconds_queries);
   double sq = 0, w = 0;
-  r.a_to_b = summarize(on_a, from_a, options.histogram_bins, sq, w);
+  r.a_to_b = summarize(*on_a, from_a, options.histogram_bins, sq, w);
   r.b_to_a = summarize(on_b, from_b, options.histogram_bins, sq, w);
   r.hausdorff = std::max(r.a_to_b.max, r.b_to_a.max);
   r.rms = w > 0 ? std::sqrt(sq / w) : 0;
-  r.diagonal = bounding_box(a).diagonal();
-  if (weighted) r.visible = summarize_visible(on_a, from_a, options.face_visibility);
+  if (cache != nullptr) {
+    if (cache->diagonal == 0) cache->diagonal = bounding_box(a).diagonal();
+    r.diagonal = cache->diagonal;
+  } else {
+    r.diagonal = bounding_box(a).diagonal();
+  }
+  if (weighted) r.visible = summarize_visible(*on_a, from_a, options.face_visibility);
   if (options.vertex_errors) {
     r.vertex_error.assign(a.num_vertices(), 0.0f);
     r.face_error.assign(a.num_faces(), 0.0f);
-    for (std::size_t i = 0; i < on_a.vertices.size(); ++i)
-      r.vertex_error[on_a.vertices[i]] = static_cast<float>(from_a.vertex[i]);
+    for (std::size_t i = 0; i < on_a->vertices.size(); ++i)
+      r.vertex_error[on_a->vertices[i]] = static_cast<float>(from_a.vertex[i]);
     for (std::size_t f = 0; f < a.num_faces(); ++f)
-      for (std::size_t i = on_a.face_offset[f]; i < on_a.face_offset[f + 1]; ++i)
+      for (std::size_t i = on_a->face_offset[f]; i < on_a->face_offset[f + 1]; ++i)
         r.face_error[f] = std::max(r.face_error[f], static_cast<float>(from_a.face[i]));
   }
   r.seconds = seconds_since(start);
   return r;
+}
+
+}  // namespace
+
+SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options) {
+  return distance_between(a, b, options, nullptr);
+}
+
+SurfaceDistanceReference::SurfaceDistanceReference(const Mesh& a) : a_(a), cache_(std::make_unique<Cache>()) {}
+SurfaceDistanceReference::~SurfaceDistanceReference() = default;
+
+SurfaceDistance SurfaceDistanceReference::distance_to(const Mesh& b, const SurfaceDistanceOptions& options) const {
+  return distance_between(a_, b, options, cache_.get());
 }
 
 }  // namespace visimp

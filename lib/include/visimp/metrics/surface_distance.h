@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "visimp/core/mesh.h"
@@ -79,5 +80,26 @@ struct SurfaceDistance {
 /// Throws InvalidMeshError when either mesh has no non-degenerate face, or when
 /// face_visibility does not have one value per face of A, or a value outside [0, 1].
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDistanceOptions& options = {});
+
+/// A measured against many B (the levels of a compare): A's closest-triangle index, sample
+/// plan and diagonal are made on the first call and kept, so each further call costs only
+/// B's share. Every result equals surface_distance(a, b, options). A is referenced, not
+/// copied: it must outlive this and stay unchanged. Calls may come from several threads
+/// (they take turns).
+class SurfaceDistanceReference {
+ public:
+  explicit SurfaceDistanceReference(const Mesh& a);
+  ~SurfaceDistanceReference();
+  SurfaceDistanceReference(const SurfaceDistanceReference&) = delete;
+  SurfaceDistanceReference& operator=(const SurfaceDistanceReference&) = delete;
+
+  SurfaceDistance distance_to(const Mesh& b, const SurfaceDistanceOptions& options = {}) const;
+
+  struct Cache;  // private to surface_distance.cpp
+
+ private:
+  const Mesh& a_;
+  std::unique_ptr<Cache> cache_;
+};
 
 }  // namespace visimp
