@@ -8,9 +8,10 @@
 // distance (visimp metrics, 1M samples per direction, fixed seed), prints ratios against
 // visimp, and ends with issue 22's goals per mesh and ratio.
 //
-// usage: bench_simplify [--vg-overhead] [--cpu-limit S] [MESH.ply ...]
+// usage: bench_simplify [--vg-overhead | --peers-only] [--cpu-limit S] [MESH.ply ...]
 //          (default meshes: dragon, kicad_dsub62_male, fandisk_cad)
 //        --vg-overhead: only the last table (VG's cost over QB once V is known)
+//        --peers-only: every table but that one (for large meshes: it runs each 27 times)
 //        --cpu-limit S: a method run past S CPU seconds is killed and reported failed (300)
 //        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply
 //          one simplify() to 10%, V from the file's face quality (a `visimp visibility` output);
@@ -228,7 +229,7 @@ int single_run(const std::string& mode, const std::string& path) {
 }
 
 constexpr const char* kUsage =
-    "usage: bench_simplify [--vg-overhead] [--cpu-limit S] [MESH ...]\n"
+    "usage: bench_simplify [--vg-overhead | --peers-only] [--cpu-limit S] [MESH ...]\n"
     "       bench_simplify --single-run qb|vg-ones|vg MESH\n"
     "visimp QB against meshoptimizer, CGAL and OpenMesh at 10% and 1% (default: dragon, D-sub, fandisk;\n"
     "without ../shared/meshes the bundled meshes stand in, a note on stderr says which).\n";
@@ -242,11 +243,13 @@ int run(const std::vector<std::string>& args) {
     return single_run(mode, args[2]);
   }
   std::vector<std::string> meshes;
-  bool overhead_only = false;
+  bool overhead_only = false, peers_only = false;
   double cpu_limit = 300;  // per peer run; a run past it is reported as failed
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--vg-overhead")
       overhead_only = true;
+    else if (args[i] == "--peers-only")
+      peers_only = true;
     else if (args[i] == "--cpu-limit" && i + 1 < args.size())
       cpu_limit = std::atof(args[++i].c_str());
     else if (!args[i].empty() && args[i][0] == '-')
@@ -311,6 +314,7 @@ int run(const std::vector<std::string>& args) {
   }
   for (const auto& [label, method] : methods) std::remove(output_of(label).c_str());
   if (!overhead_only) std::printf("\nGoals (issue 22):\n\n%s", goals.c_str());
+  if (peers_only) return 0;
   std::printf("\nVG overhead over QB with V known (258 cameras, 480²; 9 interleaved rounds):\n\n");
   std::printf(
       "| mesh | ratio | QB min CPU s | VG (V = 1) min CPU s | vs QB (min) | vs QB (median of rounds) | "
