@@ -129,13 +129,16 @@ TEST(VertexFaceLists, RegionsKeepEveryListInsideItsRegionAndMatchThePlainModel) 
     }
   }
   EXPECT_GT(merges, 500u);
+  // The regions filled up and were rewritten in place, more than once; a merge that did not
+  // fit even then was refused (and skipped by the model too), but most fit.
+  EXPECT_GT(lists.region_compactions(), 10u);
+  EXPECT_LT(refused, merges / 10);
   lists.join_regions();
   for (std::uint32_t v = 0; v < kVertices; ++v) {
     std::vector<std::uint32_t> expected = model[v];
     std::sort(expected.begin(), expected.end());
     EXPECT_EQ(sorted(lists[v]), expected) << "vertex " << v;
   }
-  (void)refused;  // a full region may refuse a merge; the model then skips it too
 }
 
 }  // namespace

@@ -214,7 +214,7 @@ class CollapseEngine {
       const HeapEntry entry = first != nullptr ? *first : lane.heap.pop();
       first = nullptr;
       CollapseProfile profile;
-      if (!prepare(entry, profile)) continue;
+      if (is_stale(entry) || !prepare(entry, profile)) continue;
       if (profile.error > max_error || (custom_cost_ != nullptr && entry.key == kRefusedKey)) {
         lane.error_limited = true;
         continue;
@@ -238,7 +238,8 @@ class CollapseEngine {
     for (const HeapEntry& entry : deferred) {
       if (faces_alive_ <= target) break;
       CollapseProfile profile;
-      if (prepare(entry, profile) && profile.error <= max_error && legal(lane, profile)) collapse(lane, profile, result);
+      if (!is_stale(entry) && prepare(entry, profile) && profile.error <= max_error && legal(lane, profile))
+        collapse(lane, profile, result);
     }
     if (faces_alive_ <= target)
       result.stop_reason = result.collapses ? StopReason::target_reached : StopReason::nothing_to_do;
@@ -483,12 +484,18 @@ class CollapseEngine {
 
   template <class Fn>
   void for_each_neighbor(Lane& lane, VertexIndex v, Fn&& fn) {
-    const std::uint32_t mark = fresh_mark(lane);
-    mark_[v] = mark;
+    visit_neighbors(mark_, fresh_mark(lane), v, fn);
+  }
+
+  // Calls fn once for every vertex that shares a face with v, marking v and them with `id`
+  // in `mark` (a mark newer than any it holds).
+  template <class Fn>
+  void visit_neighbors(std::vector<std::uint32_t>& mark, std::uint32_t id, VertexIndex v, Fn&& fn) const {
+    mark[v] = id;
     for (std::uint32_t f : vertex_faces_[v])
       for (VertexIndex w : faces_[f])
-        if (mark_[w] != mark) {
-          mark_[w] = mark;
+        if (mark[w] != id) {
+          mark[w] = id;
           fn(w);
         }
   }
@@ -515,14 +522,7 @@ class CollapseEngine {
         mark.assign(nv, 0);
         mark_ids[worker] = 0;
       }
-      const std::uint32_t id = ++mark_ids[worker];
-      mark[v] = id;
-      for (std::uint32_t f : vertex_faces_[v])
-        for (VertexIndex w : faces_[f])
-          if (mark[w] != id) {
-            mark[w] = id;
-            fn(w);
-          }
+      visit_neighbors(mark, ++mark_ids[worker], v, fn);
     };
     if (partitioned) {
       parallel_for(0, chunks, workers, [&](unsigned, std::size_t c) {
@@ -694,9 +694,9 @@ class CollapseEngine {
     return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive) || modified_[e.v0] > e.time || modified_[e.v1] > e.time;
   }
 
-  // Fills the profile for a heap entry; false when the entry is stale.
+  // Fills the profile for a fresh heap entry (callers check is_stale first); false when the
+  // edge has no face left.
   bool prepare(const HeapEntry& e, CollapseProfile& p) {
-    if (is_stale(e)) return false;
     p.v0 = e.v0;
     p.v1 = e.v1;
     p.num_removed = 0;

@@ -133,6 +133,9 @@ class VertexFaceLists {
     return regions_[r].end - regions_[r].next >= grown_capacity(needed);
   }
 
+  /// How often a region was rewritten packed to make room (for tests and traces).
+  std::size_t region_compactions() const { return region_compactions_; }
+
   std::size_t memory_bytes() const {
     return slots_.capacity() * sizeof(Slot) + pool_.capacity() * sizeof(std::uint32_t);
   }
@@ -207,6 +210,7 @@ class VertexFaceLists {
     }
     std::copy(packed.begin(), packed.end(), pool_.begin() + region.begin);
     region.next = region.begin + packed.size();
+    ++region_compactions_;
   }
 
   struct Region {
@@ -218,6 +222,7 @@ class VertexFaceLists {
   std::size_t vertices_per_region_ = 0;
   std::vector<std::uint32_t> pool_;
   std::size_t dead_ = 0;  // entries of the pool no list uses
+  std::size_t region_compactions_ = 0;
 };
 
 }  // namespace visimp::detail
