@@ -110,14 +110,17 @@ int reference_table(std::vector<std::string> meshes) {
 constexpr const char* kUsage =
     "usage: bench_visibility [MESH ...]              both backends and the floor (default: dragon, bunny)\n"
     "       bench_visibility --reference [MESH ...]  against the Embree ray caster (~10 minutes)\n"
+    "       bench_visibility --raster [MESH ...]     the floor and the software rasteriser only (quick A/B runs)\n"
     "Without ../shared/meshes the bundled meshes stand in (a note on stderr says which).\n";
 
 int run(const std::vector<std::string>& args) {
   std::vector<std::string> meshes;
-  bool reference = false;
+  bool reference = false, raster_only = false;
   for (const std::string& a : args) {
     if (a == "--reference")
       reference = true;
+    else if (a == "--raster")
+      raster_only = true;
     else if (!a.empty() && a[0] == '-')
       throw visimp::UsageError("unknown option " + a + " (see --help)");
     else
@@ -140,6 +143,7 @@ int run(const std::vector<std::string>& args) {
                 floor.values[1], floor.values[0], floor.cpu, floor.peak_mb);
     double raster_render = 0;
     for (const char* backend : {"raster", "osmesa"}) {
+      if (raster_only && std::string(backend) != "raster") continue;
       const bench::ChildResult r = bench::run_in_child(6, [&] {
         const visimp::RenderOptions options{resolution, 0};
         auto renderer = std::string(backend) == "raster"

@@ -8,11 +8,13 @@
 //      the tolerance behind the surface interpolated from the four depths around it, or sits on
 //      a silhouette or a corner of a face shown there; vertices whose faces all turn away are
 //      skipped;
-//   3. one pass over the faces adds q(R·N) to `total` for every face turned toward the
-//      camera and to `seen` when the face owns a pixel or one of its vertices is visible;
+//   3. one pass over the faces adds q(R·N) to `seen` when the face owns a pixel or one of
+//      its vertices is visible;
 //   4. (fractional F only) the counts are cleared through the same pixels.
 // Workers add integers into their own arrays, summed at the end: any thread count gives
-// the same bits.
+// the same bits. `total`, the sum of q(R·N) over the cameras, depends on the face normal
+// alone: it is added once per face after the frames (add_to), from the directions of the
+// frames consumed, instead of being read and written in every frame's face pass.
 #pragma once
 
 #include <algorithm>
@@ -21,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "visimp/core/parallel.h"
 #include "visimp/render/frame.h"
 #include "visimp/render/renderer.h"
 #include "visimp/visibility/tally.h"
@@ -36,15 +39,12 @@ inline float dot(const std::array<float, 3>& a, const std::array<float, 3>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-struct FaceTally {
-  std::uint32_t seen = 0, total = 0;  // together: one cache line serves both
-};
-
 // Per-worker accumulators; see the file comment for the four steps.
 class TallyConsumer final : public FrameConsumer {
   struct Worker {
-    std::vector<FaceTally> tally;              // front side, every face
-    std::vector<FaceTally> back;               // back side, faces from one_sided_faces on
+    std::vector<std::uint32_t> seen;           // front side, every face: sum of q where seen
+    std::vector<std::uint32_t> seen_back;      // back side, faces from one_sided_faces on
+    std::vector<std::array<float, 3>> directions;  // of the frames consumed (for the totals)
     std::vector<std::uint16_t> owned;          // fractional F: pixels owned in the current frame (saturating)
     std::vector<std::uint32_t> seen_in_frame;  // binary F: number of the last frame the face owned a pixel in
     std::uint32_t frame_number = 0;
@@ -62,15 +62,16 @@ class TallyConsumer final : public FrameConsumer {
   void consume(const Frame& frame, std::size_t, unsigned worker) override {
     Worker& w = workers_[worker];
     const std::size_t faces = scene_.faces.size();
-    if (w.tally.empty()) {
-      w.tally.resize(faces);
-      w.back.resize(faces - one_sided_);
+    if (w.seen_in_frame.empty()) {
+      w.seen.resize(faces);
+      w.seen_back.resize(faces - one_sided_);
       if (options_.fractional) w.owned.assign(faces, 0);
       w.seen_in_frame.assign(faces, 0);
       w.vertex_seen.assign(scene_.positions.size(), 0);
       if (options_.depth_test) w.unsure_vertices.resize(scene_.positions.size());
     }
     const std::array<float, 3> direction = to_float3(frame.view.direction);
+    w.directions.push_back(direction);
     const std::uint32_t* ids = frame.ids.data();
     const std::size_t pixels = frame.ids.size();
     const std::uint32_t frame_number = ++w.frame_number;
@@ -119,28 +120,26 @@ class TallyConsumer final : public FrameConsumer {
     const std::uint32_t* owned_in_frame = w.seen_in_frame.data();
     const std::uint8_t* vertex_seen = w.vertex_seen.data();
     const std::uint32_t frame_number = w.frame_number;
-    FaceTally* front = w.tally.data();
-    FaceTally* back = w.back.data();  // scene faces from one_sided_ on
+    std::uint32_t* front = w.seen.data();
+    std::uint32_t* back = w.seen_back.data();  // scene faces from one_sided_ on
     for (std::size_t t = first; t < last; ++t) {
       const Face& f = face[t];
       const float cosine = dot(normal[t], direction);
       const bool owns = Fractional ? w.owned[t] != 0 : owned_in_frame[t] == frame_number;
       const bool visible = owns | ((vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0);
       const std::uint32_t q = quantize_weight(cosine);
-      front[t].total += q;
       if (Fractional) {
-        front[t].seen += visible ? fractional_weight(t, q, frame, w) : 0u;
+        front[t] += visible ? fractional_weight(t, q, frame, w) : 0u;
       } else {
-        front[t].seen += visible ? q : 0u;
+        front[t] += visible ? q : 0u;
       }
       if (TwoSided) {
         const std::uint32_t qb = quantize_weight(-cosine);
-        FaceTally& b = back[t - one_sided_];
-        b.total += qb;
+        std::uint32_t& b = back[t - one_sided_];
         if (Fractional) {
-          b.seen += visible ? fractional_weight(t, qb, frame, w) : 0u;
+          b += visible ? fractional_weight(t, qb, frame, w) : 0u;
         } else {
-          b.seen += visible ? qb : 0u;
+          b += visible ? qb : 0u;
         }
       }
     }
@@ -157,18 +156,13 @@ class TallyConsumer final : public FrameConsumer {
     return static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
   }
 
-  /// Sum of all workers' tallies.
+  /// Sum of all workers' tallies, and the totals of the frames they consumed.
   void add_to(VisibilityTally& out) const {
     for (const Worker& w : workers_) {
-      for (std::size_t t = 0; t < w.tally.size(); ++t) {
-        out.seen[t] += w.tally[t].seen;
-        out.total[t] += w.tally[t].total;
-      }
-      for (std::size_t t = 0; t < w.back.size(); ++t) {
-        out.seen_back[t] += w.back[t].seen;
-        out.total_back[t] += w.back[t].total;
-      }
+      for (std::size_t t = 0; t < w.seen.size(); ++t) out.seen[t] += w.seen[t];
+      for (std::size_t t = 0; t < w.seen_back.size(); ++t) out.seen_back[t] += w.seen_back[t];
     }
+    add_totals(out);
   }
 
  private:
@@ -238,6 +232,51 @@ class TallyConsumer final : public FrameConsumer {
           static_cast<std::uint8_t>(seen[i] | shows_corner(faces, ids[p], i) | shows_corner(faces, ids[p + 1], i) |
                                     shows_corner(faces, ids[p + row], i) | shows_corner(faces, ids[p + row + 1], i));
     }
+  }
+
+  // total += Σ q(R·N) over the consumed frames' directions R, and total_back += Σ q(−R·N) for
+  // the two-sided faces: the same floats and quantisation as the per-frame pass (quantize_weight;
+  // a face of a cluster skipped as turned away has q = 0 there), so the same integers.
+  void add_totals(VisibilityTally& out) const {
+    std::vector<std::array<float, 3>> directions;
+    for (const Worker& w : workers_) directions.insert(directions.end(), w.directions.begin(), w.directions.end());
+    const std::size_t faces = scene_.faces.size();
+    if (directions.empty()) return;
+    constexpr std::size_t kChunk = 2048;  // the chunk's normals and sums stay in L1
+    const std::size_t chunks = (faces + kChunk - 1) / kChunk;
+    const unsigned workers = worker_count(static_cast<unsigned>(workers_.size()), chunks);
+    parallel_for(0, chunks, workers, [&](unsigned, std::size_t chunk) {
+      const std::size_t first = chunk * kChunk, count = std::min(faces, first + kChunk) - first;
+      // One array per axis, cameras outside and faces inside: the face loop vectorises.
+      alignas(64) float nx[kChunk], ny[kChunk], nz[kChunk];
+      alignas(64) std::uint32_t front[kChunk] = {}, back[kChunk] = {};
+      for (std::size_t i = 0; i < count; ++i) {
+        nx[i] = face_normals_[first + i][0];
+        ny[i] = face_normals_[first + i][1];
+        nz[i] = face_normals_[first + i][2];
+      }
+      for (const std::array<float, 3>& d : directions) {
+        const float dx = d[0], dy = d[1], dz = d[2];
+        for (std::size_t i = 0; i < count; ++i) {
+          const float cosine = nx[i] * dx + ny[i] * dy + nz[i] * dz;  // as dot(normal, direction)
+          front[i] += quantized(cosine);
+          back[i] += quantized(-cosine);
+        }
+      }
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t t = first + i;
+        out.total[t] += front[i];
+        if (t >= one_sided_) out.total_back[t - one_sided_] += back[i];
+      }
+    });
+  }
+
+  // quantize_weight with the clamp at zero moved after a signed conversion: for w < 0 the
+  // rounded value truncates to at most 0, so the same integer. A float compare-and-select
+  // would keep the loop scalar (it may trap); an integer one vectorises.
+  static std::uint32_t quantized(float w) {
+    const auto q = static_cast<std::int32_t>(w * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f);
+    return static_cast<std::uint32_t>(q < 0 ? 0 : q);
   }
 
   // The pixel shows the background, or a face with corner i.
