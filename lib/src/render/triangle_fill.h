@@ -69,6 +69,9 @@ inline void fill_triangle(SnappedVertex p0, SnappedVertex p1, SnappedVertex p2, 
   const std::int64_t step_x0 = -(c.y - b.y) * kSubpixel, step_y0 = (c.x - b.x) * kSubpixel;
   const std::int64_t step_x1 = -(a.y - c.y) * kSubpixel, step_y1 = (a.x - c.x) * kSubpixel;
   const std::int64_t step_x2 = -(b.y - a.y) * kSubpixel, step_y2 = (b.x - a.x) * kSubpixel;
+  // A box of one pixel centre that the triangle misses (the common case for the sub-pixel
+  // triangles of a scan): done before the depth plane's division.
+  if (x0 == x1 && y0 == y1 && (row0 | row1 | row2) < 0) return;
 
   // Depth plane through the three (unsnapped) vertices, evaluated at pixel centres.
   const double inv_area = 1.0 / static_cast<double>(area2);

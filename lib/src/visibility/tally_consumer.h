@@ -46,9 +46,10 @@ class TallyConsumer final : public FrameConsumer {
     std::vector<std::uint32_t> seen_back;      // back side, faces from one_sided_faces on
     std::vector<std::array<float, 3>> directions;  // of the frames consumed (for the totals)
     std::vector<std::uint16_t> owned;          // fractional F: pixels owned in the current frame (saturating)
-    std::vector<std::uint32_t> seen_in_frame;  // binary F: number of the last frame the face owned a pixel in
+    std::vector<std::uint32_t> seen_in_frame;  // binary F, by pixel id (0: background): last frame owning a pixel
     std::uint32_t frame_number = 0;
     std::vector<std::uint8_t> vertex_seen;       // per vertex: passes the depth test in this frame
+    std::vector<std::uint32_t> facing_vertices;  // the depth test's first pass
     std::vector<std::uint32_t> unsure_vertices;  // the depth test's second pass
   };
 
@@ -66,9 +67,12 @@ class TallyConsumer final : public FrameConsumer {
       w.seen.resize(faces);
       w.seen_back.resize(faces - one_sided_);
       if (options_.fractional) w.owned.assign(faces, 0);
-      w.seen_in_frame.assign(faces, 0);
+      w.seen_in_frame.assign(faces + 1, 0);
       w.vertex_seen.assign(scene_.positions.size(), 0);
-      if (options_.depth_test) w.unsure_vertices.resize(scene_.positions.size());
+      if (options_.depth_test) {
+        w.facing_vertices.resize(scene_.positions.size());
+        w.unsure_vertices.resize(scene_.positions.size());
+      }
     }
     const std::array<float, 3> direction = to_float3(frame.view.direction);
     w.directions.push_back(direction);
@@ -81,9 +85,7 @@ class TallyConsumer final : public FrameConsumer {
       }
     } else {
       std::uint32_t* seen = w.seen_in_frame.data();
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (ids[p] != 0) seen[ids[p] - 1] = frame_number;
-      }
+      for (std::size_t p = 0; p < pixels; ++p) seen[ids[p]] = frame_number;  // no branch on the background
     }
     if (options_.depth_test) mark_seen_vertices(frame, w);
 
@@ -117,7 +119,7 @@ class TallyConsumer final : public FrameConsumer {
     // Local pointers: the compiler cannot prove the tallies do not alias the inputs.
     const Face* face = scene_.faces.data();
     const std::array<float, 3>* normal = face_normals_.data();
-    const std::uint32_t* owned_in_frame = w.seen_in_frame.data();
+    const std::uint32_t* owned_in_frame = w.seen_in_frame.data() + 1;  // by face, not by id
     const std::uint8_t* vertex_seen = w.vertex_seen.data();
     const std::uint32_t frame_number = w.frame_number;
     std::uint32_t* front = w.seen.data();
@@ -127,19 +129,21 @@ class TallyConsumer final : public FrameConsumer {
       const float cosine = dot(normal[t], direction);
       const bool owns = Fractional ? w.owned[t] != 0 : owned_in_frame[t] == frame_number;
       const bool visible = owns | ((vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0);
-      const std::uint32_t q = quantize_weight(cosine);
+      // Masks, not `visible ? q : 0`, which compiles to a branch that is a coin toss on a scan.
+      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(visible);
+      const std::uint32_t q = quantized(cosine);
       if (Fractional) {
         front[t] += visible ? fractional_weight(t, q, frame, w) : 0u;
       } else {
-        front[t] += visible ? q : 0u;
+        front[t] += q & mask;
       }
       if (TwoSided) {
-        const std::uint32_t qb = quantize_weight(-cosine);
+        const std::uint32_t qb = quantized(-cosine);
         std::uint32_t& b = back[t - one_sided_];
         if (Fractional) {
           b += visible ? fractional_weight(t, qb, frame, w) : 0u;
         } else {
-          b += visible ? qb : 0u;
+          b += qb & mask;
         }
       }
     }
@@ -189,34 +193,45 @@ class TallyConsumer final : public FrameConsumer {
     std::uint8_t* seen = w.vertex_seen.data();
     std::uint32_t* unsure = w.unsure_vertices.data();
     std::size_t unsure_count = 0;
-    // Pass 1, branch-free (which case a vertex falls in is a coin toss on a scan): behind the
-    // bilinear surface (which is never nearer than the nearest sample) or not; the vertices
-    // neither clearly seen nor clearly hidden are kept for pass 2.
+    // Pass 0: the vertices with a face turned toward the camera, listed without a branch (the
+    // others' test cannot matter; they are about 45% of the dragon's vertices per camera, and
+    // pass 1 is bound by its loads).
     const std::array<float, 3> direction = to_float3(frame.view.direction);
     const VertexCone* cones = scene_.vertex_cones.data();
     const std::size_t vertex_count = frame.vertices.size();
-    const bool have_cones = scene_.vertex_cones.size() == vertex_count;
-    for (std::size_t i = 0; i < vertex_count; ++i) {
-      // All of the vertex's faces turned away: its test cannot matter (and pass 1 is bound
-      // by its loads: this skips about 45% of the dragon's vertices per camera).
-      if (have_cones && cones[i].all_back_facing(direction)) {
-        seen[i] = 0;
-        continue;
+    std::uint32_t* facing = w.facing_vertices.data();
+    std::size_t facing_count = 0;
+    std::fill(seen, seen + vertex_count, std::uint8_t{0});
+    if (scene_.vertex_cones.size() == vertex_count) {
+      for (std::size_t i = 0; i < vertex_count; ++i) {
+        facing[facing_count] = static_cast<std::uint32_t>(i);
+        facing_count += static_cast<std::size_t>(!cones[i].all_back_facing(direction));
       }
-      const ScreenVertex& v = frame.vertices[i];
+    } else {
+      for (std::size_t i = 0; i < vertex_count; ++i) facing[i] = static_cast<std::uint32_t>(i);
+      facing_count = vertex_count;
+    }
+    // Pass 1, branch-free (which case a vertex falls in is a coin toss on a scan): behind the
+    // bilinear surface (which is never nearer than the nearest sample) or not; the vertices
+    // neither clearly seen nor clearly hidden are kept for pass 2.
+    const ScreenVertex* screen = frame.vertices.data();
+    for (std::size_t k = 0; k < facing_count; ++k) {
+      const std::uint32_t i = facing[k];
+      const ScreenVertex& v = screen[i];
       // Screen coordinates are positive, so truncation is the floor (or 0 where clamped anyway).
       const int px = std::min(static_cast<int>(v.x - 0.5f), size - 2);
       const int py = std::min(static_cast<int>(v.y - 0.5f), size - 2);
       const std::size_t p = static_cast<std::size_t>(py) * row + static_cast<std::size_t>(px);
       const float d0 = depth[p], d1 = depth[p + 1], d2 = depth[p + row], d3 = depth[p + row + 1];
-      const float fx = std::clamp(v.x - 0.5f - static_cast<float>(px), 0.0f, 1.0f);
-      const float fy = std::clamp(v.y - 0.5f - static_cast<float>(py), 0.0f, 1.0f);
+      // min(max()), not std::clamp: minss/maxss rather than compares and jumps.
+      const float fx = std::min(std::max(v.x - 0.5f - static_cast<float>(px), 0.0f), 1.0f);
+      const float fy = std::min(std::max(v.y - 0.5f - static_cast<float>(py), 0.0f), 1.0f);
       const float below = d0 + (d1 - d0) * fx, above = d2 + (d3 - d2) * fx;
       const float z = v.depth - tolerance;
       const bool in_front = z <= below + (above - below) * fy;
       const bool near = z <= std::max(std::max(d0, d1), std::max(d2, d3)) + reach;
-      seen[i] = in_front ? 1 : 0;
-      unsure[unsure_count] = static_cast<std::uint32_t>(i);
+      seen[i] = static_cast<std::uint8_t>(in_front);
+      unsure[unsure_count] = i;
       unsure_count += static_cast<std::size_t>(!in_front & near);
     }
     // Pass 2: on a silhouette (background next to it) or a corner of a face shown next to it.
@@ -273,7 +288,7 @@ class TallyConsumer final : public FrameConsumer {
 
   // quantize_weight with the clamp at zero moved after a signed conversion: for w < 0 the
   // rounded value truncates to at most 0, so the same integer. A float compare-and-select
-  // would keep the loop scalar (it may trap); an integer one vectorises.
+  // becomes a branch or keeps a loop scalar (it may trap); an integer one does neither.
   static std::uint32_t quantized(float w) {
     const auto q = static_cast<std::int32_t>(w * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f);
     return static_cast<std::uint32_t>(q < 0 ? 0 : q);
