@@ -74,6 +74,41 @@ std::vector<VertexCone> vertex_normal_cones(const RenderScene& scene,
   return vertex_cones;
 }
 
+// Per run of kClusterSize consecutive vertices: a cone around the normals of every face that
+// uses one of them (vertices are in order of first use by spatially ordered faces, so a run
+// is a small patch). Never set when one of those faces is drawn from both sides.
+std::vector<NormalCone> vertex_cluster_cones(const RenderScene& scene,
+                                             const std::vector<std::array<float, 3>>& unit_normals) {
+  constexpr std::size_t kSize = RenderScene::kClusterSize;
+  const std::size_t clusters = (scene.positions.size() + kSize - 1) / kSize;
+  std::vector<Vec3> sum(clusters);
+  std::vector<std::uint8_t> never(clusters, 0);
+  for (std::size_t t = 0; t < scene.faces.size(); ++t) {
+    const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+    for (const VertexIndex v : scene.faces[t]) {
+      sum[v / kSize] += n;
+      if (t >= scene.culled_faces) never[v / kSize] = 1;
+    }
+  }
+  std::vector<double> min_cos(clusters, 1.0);
+  for (Vec3& a : sum) {
+    const double length = norm(a);
+    a = length > 0 ? a / length : Vec3{};
+  }
+  for (std::size_t t = 0; t < scene.faces.size(); ++t) {
+    const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+    if (squared_norm(n) == 0) continue;
+    for (const VertexIndex v : scene.faces[t]) min_cos[v / kSize] = std::min(min_cos[v / kSize], dot(sum[v / kSize], n));
+  }
+  std::vector<NormalCone> cones(clusters);
+  for (std::size_t c = 0; c < clusters; ++c) {
+    if (never[c] != 0 || squared_norm(sum[c]) == 0 || min_cos[c] <= 0.01) continue;
+    cones[c].axis = {static_cast<float>(sum[c].x), static_cast<float>(sum[c].y), static_cast<float>(sum[c].z)};
+    cones[c].cutoff = static_cast<float>(-std::sqrt(1 - min_cos[c] * min_cos[c]) - 0.01);  // as for face clusters
+  }
+  return cones;
+}
+
 }  // namespace
 
 void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals) {
@@ -98,6 +133,7 @@ void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& 
     cone.cutoff = static_cast<float>(-std::sqrt(1 - min_cos * min_cos) - 0.01);
   }
   vertex_cones = vertex_normal_cones(*this, unit_normals);
+  vertex_clusters = vertex_cluster_cones(*this, unit_normals);
 }
 
 OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int resolution) {

@@ -71,8 +71,11 @@ struct RenderScene {
   /// Empty, or one cone per vertex over the faces that use it: a consumer may skip
   /// per-vertex work for a camera that every one of those faces turns its back to.
   std::vector<VertexCone> vertex_cones;
+  /// Empty, or one cone per kClusterSize consecutive vertices over every face that uses one
+  /// of them: the same, a run of vertices at a time.
+  std::vector<NormalCone> vertex_clusters;
 
-  /// Fills `clusters` and `vertex_cones` from the given unit face normals (zero for
+  /// Fills `clusters`, `vertex_cones` and `vertex_clusters` from the given unit face normals (zero for
   /// degenerate faces, which never face a camera). A cluster or vertex with a face at or
   /// past culled_faces is never skipped.
   void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals);
