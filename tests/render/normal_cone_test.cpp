@@ -1,9 +1,13 @@
-// The per-vertex normal cones (frame.h, VertexCone): a consumer skips a vertex's work for a
-// camera only when every face around it turns its back to that camera.
+// The per-vertex normal cones (frame.h, VertexCone) and the cones per run of vertices
+// (RenderScene::vertex_clusters): a consumer skips a vertex's work for a camera only when
+// every face around it turns its back to that camera.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
+#include <tuple>
 
 #include "test_meshes.h"
 #include "visimp/render/frame.h"
@@ -23,10 +27,10 @@ std::vector<std::array<float, 3>> unit_normals(const Mesh& mesh) {
 }
 
 // An icosphere with its vertices pushed in and out at random: a scan's noisy normals.
-Mesh bumpy_sphere() {
+Mesh bumpy_sphere(double amplitude = 0.03) {
   Mesh m = test::icosphere(4);
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> bump(0.97, 1.03);
+  std::uniform_real_distribution<double> bump(1 - amplitude, 1 + amplitude);
   for (Vec3& p : m.positions) p = p * bump(rng);
   return m;
 }
@@ -87,6 +91,77 @@ TEST(VertexCones, VerticesOfOnlyDegenerateFacesAlwaysSkip) {
   RenderScene scene = RenderScene::from_mesh(mesh, true);
   scene.compute_normal_cones(unit_normals(mesh));
   for (std::size_t v = 0; v < 3; ++v) EXPECT_TRUE(scene.vertex_cones[v].all_back_facing({0, 0, 1}));
+}
+
+// The bumpy sphere with its vertices renumbered cell by cell of a latitude-longitude grid, so
+// a run of 64 consecutive vertices is a small patch (as visibility's order of first use makes it).
+// Milder bumps than bumpy_sphere's: a whole patch's normals must fit in a cone under 90°.
+Mesh bumpy_sphere_in_patches() {
+  Mesh m = bumpy_sphere(0.005);
+  std::vector<std::size_t> order(m.num_vertices());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto key = [&](std::size_t v) {
+    const Vec3& p = m.positions[v];
+    return std::make_tuple(std::floor(p.z * 4), std::floor(std::atan2(p.y, p.x) * 4 / M_PI), p.z);
+  };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  std::vector<VertexIndex> new_index(m.num_vertices());
+  Mesh out;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    new_index[order[i]] = static_cast<VertexIndex>(i);
+    out.positions.push_back(m.positions[order[i]]);
+  }
+  for (const Face& f : m.faces) out.faces.push_back({new_index[f[0]], new_index[f[1]], new_index[f[2]]});
+  return out;
+}
+
+TEST(VertexClusters, SkipOnlyRunsWhoseFacesAllTurnAway) {
+  const Mesh mesh = bumpy_sphere_in_patches();
+  RenderScene scene = RenderScene::from_mesh(mesh, true);
+  const auto normals = unit_normals(mesh);
+  scene.compute_normal_cones(normals);
+  constexpr std::size_t kRun = RenderScene::kClusterSize;
+  ASSERT_EQ(scene.vertex_clusters.size(), (mesh.num_vertices() + kRun - 1) / kRun);
+  std::mt19937 rng(5);
+  std::normal_distribution<float> gauss;
+  std::size_t skipped = 0, runs = 0;
+  for (int camera = 0; camera < 200; ++camera) {
+    std::array<float, 3> d{gauss(rng), gauss(rng), gauss(rng)};
+    const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (float& c : d) c /= length;
+    std::vector<bool> run_skipped(scene.vertex_clusters.size());
+    for (std::size_t c = 0; c < run_skipped.size(); ++c, ++runs) {
+      run_skipped[c] = scene.vertex_clusters[c].all_back_facing(d);
+      skipped += run_skipped[c] ? 1 : 0;
+    }
+    for (std::size_t t = 0; t < mesh.faces.size(); ++t) {
+      for (const VertexIndex v : mesh.faces[t]) {
+        if (!run_skipped[v / kRun]) continue;
+        ASSERT_LT(normals[t][0] * d[0] + normals[t][1] * d[1] + normals[t][2] * d[2], 0.0f)
+            << "run " << v / kRun << " skipped although face " << t << " of its vertex " << v << " faces the camera";
+      }
+    }
+  }
+  EXPECT_GT(static_cast<double>(skipped) / static_cast<double>(runs), 0.1);
+}
+
+TEST(VertexClusters, NeverSkipRunsWithATwoSidedFace) {
+  const Mesh mesh = bumpy_sphere_in_patches();
+  RenderScene scene = RenderScene::from_mesh(mesh, true);
+  scene.culled_faces = mesh.num_faces() / 2;
+  scene.compute_normal_cones(unit_normals(mesh));
+  std::vector<bool> two_sided(scene.vertex_clusters.size(), false);
+  for (std::size_t t = scene.culled_faces; t < mesh.faces.size(); ++t) {
+    for (const VertexIndex v : mesh.faces[t]) two_sided[v / RenderScene::kClusterSize] = true;
+  }
+  for (const std::array<float, 3>& d :
+       std::vector<std::array<float, 3>>{{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 0, -1}}) {
+    for (std::size_t c = 0; c < two_sided.size(); ++c) {
+      if (two_sided[c]) {
+        EXPECT_FALSE(scene.vertex_clusters[c].all_back_facing(d)) << c;
+      }
+    }
+  }
 }
 
 }  // namespace
