@@ -2,19 +2,20 @@
 // the library.
 //
 // Per camera, on the worker that rendered the frame:
-//   1. every pixel marks the face it shows as seen (binary F: the frame's number in
-//      `seen_in_frame`, so nothing needs clearing; fractional F: a pixel count in `owned`);
+//   1. every pixel marks the face it shows as seen (binary F: bit j of `owned_bits` for
+//      frame j of the worker's current batch; fractional F: a pixel count in `owned`);
 //   2. depth test (mark_seen_vertices): a vertex counts as visible when it is no more than
 //      the tolerance behind the surface interpolated from the four depths around it, or sits on
-//      a silhouette or a corner of a face shown there; vertices whose faces all turn away are
-//      skipped;
-//   3. one pass over the faces adds q(R·N) to `seen` when the face owns a pixel or one of
-//      its vertices is visible;
-//   4. (fractional F only) the counts are cleared through the same pixels.
-// Workers add integers into their own arrays, summed at the end: any thread count gives
-// the same bits. `total`, the sum of q(R·N) over the cameras, depends on the face normal
-// alone: it is added once per face after the frames (add_to), from the directions of the
-// frames consumed, instead of being read and written in every frame's face pass.
+//      a silhouette or a corner of a face shown there (the same bit in `vertex_seen`);
+//      vertices whose faces all turn away are skipped;
+//   3. a pass over the faces adds q(R·N) to `seen` when the face owns a pixel or one of its
+//      vertices is visible: binary F once per batch of 8 frames, one bit and one lane each
+//      (the pass is bound by its loads of faces and normals, now read once per 8 frames);
+//      fractional F frame by frame, after which its counts are cleared through the pixels.
+// Workers add integers into their own arrays, summed at the end (after each worker's last,
+// partial batch): any thread count and any batching give the same bits. `total`, the sum of
+// q(R·N) over the cameras, depends on the face normal alone: it is added once per face after
+// the frames (add_to), from the directions of the frames consumed.
 #pragma once
 
 #include <algorithm>
@@ -41,14 +42,17 @@ inline float dot(const std::array<float, 3>& a, const std::array<float, 3>& b) {
 
 // Per-worker accumulators; see the file comment for the four steps.
 class TallyConsumer final : public FrameConsumer {
+  // Binary F tallies the faces once per batch of this many frames (one bit each).
+  static constexpr std::size_t kBatch = 8;
+
   struct Worker {
     std::vector<std::uint32_t> seen;           // front side, every face: sum of q where seen
     std::vector<std::uint32_t> seen_back;      // back side, faces from one_sided_faces on
     std::vector<std::array<float, 3>> directions;  // of the frames consumed (for the totals)
     std::vector<std::uint16_t> owned;          // fractional F: pixels owned in the current frame (saturating)
-    std::vector<std::uint32_t> seen_in_frame;  // binary F, by pixel id (0: background): last frame owning a pixel
-    std::uint32_t frame_number = 0;
-    std::vector<std::uint8_t> vertex_seen;       // per vertex: passes the depth test in this frame
+    std::vector<std::uint8_t> owned_bits;      // binary F, by pixel id (0: background): bit j, owned in frame j
+    std::vector<std::uint8_t> vertex_seen;     // per vertex: bit j, passes the depth test in frame j
+    std::size_t batched = 0;                   // frames in the current batch (binary F)
     std::vector<std::uint32_t> facing_vertices;  // the depth test's first pass
     std::vector<std::uint32_t> unsure_vertices;  // the depth test's second pass
   };
@@ -63,11 +67,14 @@ class TallyConsumer final : public FrameConsumer {
   void consume(const Frame& frame, std::size_t, unsigned worker) override {
     Worker& w = workers_[worker];
     const std::size_t faces = scene_.faces.size();
-    if (w.seen_in_frame.empty()) {
+    if (w.vertex_seen.empty()) {
       w.seen.resize(faces);
       w.seen_back.resize(faces - one_sided_);
-      if (options_.fractional) w.owned.assign(faces, 0);
-      w.seen_in_frame.assign(faces + 1, 0);
+      if (options_.fractional) {
+        w.owned.assign(faces, 0);
+      } else {
+        w.owned_bits.assign(faces + 1, 0);
+      }
       w.vertex_seen.assign(scene_.positions.size(), 0);
       if (options_.depth_test) {
         w.facing_vertices.resize(scene_.positions.size());
@@ -78,74 +85,116 @@ class TallyConsumer final : public FrameConsumer {
     w.directions.push_back(direction);
     const std::uint32_t* ids = frame.ids.data();
     const std::size_t pixels = frame.ids.size();
-    const std::uint32_t frame_number = ++w.frame_number;
+    // Fractional F is tallied frame by frame (bit 0); binary F frame j of a batch is bit j.
+    const auto bit = static_cast<std::uint8_t>(1u << w.batched);
     if (options_.fractional) {
       for (std::size_t p = 0; p < pixels; ++p) {
         if (ids[p] != 0 && w.owned[ids[p] - 1] != 0xffffu) ++w.owned[ids[p] - 1];
       }
     } else {
-      std::uint32_t* seen = w.seen_in_frame.data();
-      for (std::size_t p = 0; p < pixels; ++p) seen[ids[p]] = frame_number;  // no branch on the background
+      std::uint8_t* owned = w.owned_bits.data();
+      for (std::size_t p = 0; p < pixels; ++p) owned[ids[p]] |= bit;  // no branch on the background
     }
-    if (options_.depth_test) mark_seen_vertices(frame, w);
+    if (options_.depth_test) mark_seen_vertices(frame, bit, w);
 
+    if (options_.fractional) {
+      tally_frame(direction, frame, w);
+      for (std::size_t p = 0; p < pixels; ++p) {
+        if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
+      }
+      std::fill(w.vertex_seen.begin(), w.vertex_seen.end(), std::uint8_t{0});
+    } else if (++w.batched == kBatch) {
+      tally_batch(w);
+    }
+  }
+
+  /// Sum of all workers' tallies (after the last batches), and the totals of the frames they consumed.
+  void add_to(VisibilityTally& out) {
+    parallel_for(0, workers_.size(), static_cast<unsigned>(workers_.size()), [&](unsigned, std::size_t i) {
+      if (workers_[i].batched > 0) tally_batch(workers_[i]);
+    });
+    for (const Worker& w : workers_) {
+      for (std::size_t t = 0; t < w.seen.size(); ++t) out.seen[t] += w.seen[t];
+      for (std::size_t t = 0; t < w.seen_back.size(); ++t) out.seen_back[t] += w.seen_back[t];
+    }
+    add_totals(out);
+  }
+
+ private:
+  // Fractional F for one frame: q times the fraction of the face's pixels it owns.
+  void tally_frame(const std::array<float, 3>& direction, const Frame& frame, Worker& w) const {
+    const std::size_t faces = scene_.faces.size();
     for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
       // No face of such a cluster has weight for this camera (never set for two-sided faces).
       if (scene_.clusters[first / RenderScene::kClusterSize].all_back_facing(direction)) continue;
       const std::size_t last = std::min(faces, first + RenderScene::kClusterSize);
-      const std::size_t split = std::clamp(one_sided_, first, last);  // one-sided faces first
-      if (options_.fractional) {
-        tally_faces<true, false>(first, split, direction, frame, w);
-        tally_faces<true, true>(split, last, direction, frame, w);
-      } else {
-        tally_faces<false, false>(first, split, direction, frame, w);
-        tally_faces<false, true>(split, last, direction, frame, w);
-      }
-    }
-    if (options_.fractional) {
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (ids[p] != 0) w.owned[ids[p] - 1] = 0;
+      const Face* face = scene_.faces.data();
+      const std::uint8_t* vertex_seen = w.vertex_seen.data();
+      for (std::size_t t = first; t < last; ++t) {
+        const Face& f = face[t];
+        const bool visible = w.owned[t] != 0 || (vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0;
+        if (!visible) continue;
+        const float cosine = dot(face_normals_[t], direction);
+        w.seen[t] += fractional_weight(t, quantized(cosine), frame, w);
+        if (t >= one_sided_) w.seen_back[t - one_sided_] += fractional_weight(t, quantized(-cosine), frame, w);
       }
     }
   }
 
-  // F per face of [first, last): it owns a pixel, or one of its vertices passed the depth
-  // test (vertex_seen stays all zero with the test off). One instance per kind of face, so
-  // the common one (binary F, one side) is a tight loop without data-dependent branches: a
-  // side with q = 0 adds nothing anyway.
-  template <bool Fractional, bool TwoSided>
-  void tally_faces(std::size_t first, std::size_t last, const std::array<float, 3>& direction, const Frame& frame,
+  // Binary F for the frames of the batch, one pass over the faces for all of them (the face
+  // data is read once per batch, not once per frame: the pass is bound by its loads). A face
+  // is seen in frame j when it owns a pixel there or one of its vertices passed the depth
+  // test (bit j). Unused lanes have direction 0, so q = 0 there.
+  void tally_batch(Worker& w) const {
+    const std::size_t frames = w.batched, faces = scene_.faces.size();
+    alignas(16) float dx[kBatch] = {}, dy[kBatch] = {}, dz[kBatch] = {};
+    const std::array<float, 3>* batch = w.directions.data() + (w.directions.size() - frames);
+    for (std::size_t j = 0; j < frames; ++j) {
+      dx[j] = batch[j][0];
+      dy[j] = batch[j][1];
+      dz[j] = batch[j][2];
+    }
+    for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
+      const NormalCone& cluster = scene_.clusters[first / RenderScene::kClusterSize];
+      bool all_away = true;  // no face of the cluster has weight for any camera of the batch
+      for (std::size_t j = 0; j < frames; ++j) all_away = all_away && cluster.all_back_facing(batch[j]);
+      if (all_away) continue;
+      const std::size_t last = std::min(faces, first + RenderScene::kClusterSize);
+      const std::size_t split = std::clamp(one_sided_, first, last);  // one-sided faces first
+      tally_faces<false>(first, split, dx, dy, dz, w);
+      tally_faces<true>(split, last, dx, dy, dz, w);
+    }
+    std::fill(w.owned_bits.begin(), w.owned_bits.end(), std::uint8_t{0});
+    std::fill(w.vertex_seen.begin(), w.vertex_seen.end(), std::uint8_t{0});
+    w.batched = 0;
+  }
+
+  // The faces of [first, last), one kind at a time, without data-dependent branches: a side
+  // with q = 0 adds nothing anyway. The lanes are the frames of the batch (they vectorise).
+  template <bool TwoSided>
+  void tally_faces(std::size_t first, std::size_t last, const float* dx, const float* dy, const float* dz,
                    Worker& w) const {
     // Local pointers: the compiler cannot prove the tallies do not alias the inputs.
     const Face* face = scene_.faces.data();
     const std::array<float, 3>* normal = face_normals_.data();
-    const std::uint32_t* owned_in_frame = w.seen_in_frame.data() + 1;  // by face, not by id
+    const std::uint8_t* owned = w.owned_bits.data() + 1;  // by face, not by id
     const std::uint8_t* vertex_seen = w.vertex_seen.data();
-    const std::uint32_t frame_number = w.frame_number;
     std::uint32_t* front = w.seen.data();
     std::uint32_t* back = w.seen_back.data();  // scene faces from one_sided_ on
     for (std::size_t t = first; t < last; ++t) {
       const Face& f = face[t];
-      const float cosine = dot(normal[t], direction);
-      const bool owns = Fractional ? w.owned[t] != 0 : owned_in_frame[t] == frame_number;
-      const bool visible = owns | ((vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0);
-      // Masks, not `visible ? q : 0`, which compiles to a branch that is a coin toss on a scan.
-      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(visible);
-      const std::uint32_t q = quantized(cosine);
-      if (Fractional) {
-        front[t] += visible ? fractional_weight(t, q, frame, w) : 0u;
-      } else {
-        front[t] += q & mask;
+      const std::uint32_t visible = owned[t] | vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]];
+      const float nx = normal[t][0], ny = normal[t][1], nz = normal[t][2];
+      std::uint32_t sum = 0, sum_back = 0;
+      for (std::size_t j = 0; j < kBatch; ++j) {
+        const float cosine = nx * dx[j] + ny * dy[j] + nz * dz[j];  // as dot(normal, direction)
+        // A mask, not `seen ? q : 0`, which compiles to a branch that is a coin toss on a scan.
+        const std::uint32_t mask = 0u - ((visible >> j) & 1u);
+        sum += quantized(cosine) & mask;
+        if (TwoSided) sum_back += quantized(-cosine) & mask;
       }
-      if (TwoSided) {
-        const std::uint32_t qb = quantized(-cosine);
-        std::uint32_t& b = back[t - one_sided_];
-        if (Fractional) {
-          b += visible ? fractional_weight(t, qb, frame, w) : 0u;
-        } else {
-          b += qb & mask;
-        }
-      }
+      front[t] += sum;
+      if (TwoSided) back[t - one_sided_] += sum_back;
     }
   }
 
@@ -160,16 +209,6 @@ class TallyConsumer final : public FrameConsumer {
     return static_cast<std::uint32_t>(static_cast<float>(q) * fraction + 0.5f);
   }
 
-  /// Sum of all workers' tallies, and the totals of the frames they consumed.
-  void add_to(VisibilityTally& out) const {
-    for (const Worker& w : workers_) {
-      for (std::size_t t = 0; t < w.seen.size(); ++t) out.seen[t] += w.seen[t];
-      for (std::size_t t = 0; t < w.seen_back.size(); ++t) out.seen_back[t] += w.seen_back[t];
-    }
-    add_totals(out);
-  }
-
- private:
   // The depth test of one vertex against the surface drawn at the four pixel centres
   // around it (docs/visibility.md, "The depth test"). The vertex is seen when
   //   - it is no more than the tolerance behind the bilinear interpolation of the four
@@ -180,7 +219,8 @@ class TallyConsumer final : public FrameConsumer {
   // A slope allowance from the face's own angle, as before, let anything up to ~3 px
   // behind a thin shell count as seen at grazing views; extending the planes of the faces
   // shown instead fails on sub-pixel slivers of rounded edges, whose planes tilt anywhere.
-  void mark_seen_vertices(const Frame& frame, Worker& w) const {
+  // Sets `bit` in vertex_seen for the vertices seen in this frame.
+  void mark_seen_vertices(const Frame& frame, std::uint8_t bit, Worker& w) const {
     const int size = frame.resolution();
     const auto row = static_cast<std::size_t>(size);
     const float* depth = frame.depth.data();
@@ -202,15 +242,17 @@ class TallyConsumer final : public FrameConsumer {
     const std::size_t vertex_count = frame.vertices.size();
     std::uint32_t* facing = w.facing_vertices.data();
     std::size_t facing_count = 0;
-    std::fill(seen, seen + vertex_count, std::uint8_t{0});
     constexpr std::size_t kRun = RenderScene::kClusterSize;
     if (scene_.vertex_cones.size() == vertex_count && scene_.vertex_clusters.size() * kRun >= vertex_count) {
       for (std::size_t first = 0; first < vertex_count; first += kRun) {
         if (scene_.vertex_clusters[first / kRun].all_back_facing(direction)) continue;  // a run at once
-        const std::size_t last = std::min(vertex_count, first + kRun);
-        for (std::size_t i = first; i < last; ++i) {
-          facing[facing_count] = static_cast<std::uint32_t>(i);
-          facing_count += static_cast<std::size_t>(!cones[i].all_back_facing(direction));
+        const std::size_t count = std::min(vertex_count, first + kRun) - first;
+        // The cone tests in a loop of their own (it vectorises), then the list.
+        std::array<std::uint8_t, kRun> turned_toward;
+        for (std::size_t k = 0; k < count; ++k) turned_toward[k] = !cones[first + k].all_back_facing(direction);
+        for (std::size_t k = 0; k < count; ++k) {
+          facing[facing_count] = static_cast<std::uint32_t>(first + k);
+          facing_count += turned_toward[k];
         }
       }
     } else {
@@ -236,7 +278,7 @@ class TallyConsumer final : public FrameConsumer {
       const float z = v.depth - tolerance;
       const bool in_front = z <= below + (above - below) * fy;
       const bool near = z <= std::max(std::max(d0, d1), std::max(d2, d3)) + reach;
-      seen[i] = static_cast<std::uint8_t>(in_front);
+      seen[i] = static_cast<std::uint8_t>(seen[i] | (bit & (0u - static_cast<unsigned>(in_front))));
       unsure[unsure_count] = i;
       unsure_count += static_cast<std::size_t>(!in_front & near);
     }
@@ -249,9 +291,9 @@ class TallyConsumer final : public FrameConsumer {
       const int py = std::min(static_cast<int>(v.y - 0.5f), size - 2);
       const std::size_t p = static_cast<std::size_t>(py) * row + static_cast<std::size_t>(px);
       // All four tested at once, not one after another: the face loads are the cost here.
-      seen[i] =
-          static_cast<std::uint8_t>(seen[i] | shows_corner(faces, ids[p], i) | shows_corner(faces, ids[p + 1], i) |
-                                    shows_corner(faces, ids[p + row], i) | shows_corner(faces, ids[p + row + 1], i));
+      const unsigned corner = shows_corner(faces, ids[p], i) | shows_corner(faces, ids[p + 1], i) |
+                              shows_corner(faces, ids[p + row], i) | shows_corner(faces, ids[p + row + 1], i);
+      seen[i] = static_cast<std::uint8_t>(seen[i] | (bit & (0u - corner)));
     }
   }
 
