@@ -96,6 +96,7 @@ class VertexFaceLists {
     std::size_t total = 0;
     for (std::size_t n : live) total += n + static_cast<std::size_t>(slack * double(n)) + 8;
     std::vector<std::uint32_t> packed(total);
+    for (const Region& region : regions_) region_compactions_ += region.compactions;
     regions_.assign(count, Region{});
     std::size_t at = 0;
     for (std::size_t r = 0; r < count; ++r) {
@@ -119,6 +120,7 @@ class VertexFaceLists {
 
   /// Back to one pool in vertex order (after the parallel phase).
   void join_regions() {
+    for (const Region& region : regions_) region_compactions_ += region.compactions;
     regions_.clear();
     compact();
   }
@@ -134,7 +136,11 @@ class VertexFaceLists {
   }
 
   /// How often a region was rewritten packed to make room (for tests and traces).
-  std::size_t region_compactions() const { return region_compactions_; }
+  std::size_t region_compactions() const {
+    std::size_t count = region_compactions_;
+    for (const Region& region : regions_) count += region.compactions;
+    return count;
+  }
 
   std::size_t memory_bytes() const {
     return slots_.capacity() * sizeof(Slot) + pool_.capacity() * sizeof(std::uint32_t);
@@ -210,11 +216,12 @@ class VertexFaceLists {
     }
     std::copy(packed.begin(), packed.end(), pool_.begin() + region.begin);
     region.next = region.begin + packed.size();
-    ++region_compactions_;
+    ++region.compactions;  // per region: regions are rewritten by different threads at once
   }
 
   struct Region {
     std::size_t begin = 0, next = 0, end = 0;  // [begin, next) in use, [next, end) free
+    std::size_t compactions = 0;
   };
 
   std::vector<Slot> slots_;
@@ -222,7 +229,7 @@ class VertexFaceLists {
   std::size_t vertices_per_region_ = 0;
   std::vector<std::uint32_t> pool_;
   std::size_t dead_ = 0;  // entries of the pool no list uses
-  std::size_t region_compactions_ = 0;
+  std::size_t region_compactions_ = 0;  // of the regions already joined
 };
 
 }  // namespace visimp::detail
