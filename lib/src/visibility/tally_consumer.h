@@ -12,10 +12,9 @@
 //      vertices is visible: binary F once per batch of 8 frames, one bit and one lane each
 //      (the pass is bound by its loads of faces and normals, now read once per 8 frames);
 //      fractional F frame by frame, after which its counts are cleared through the pixels.
-// Workers add integers into their own arrays, summed at the end (after each worker's last,
-// partial batch): any thread count and any batching give the same bits. `total`, the sum of
-// q(R·N) over the cameras, depends on the face normal alone: it is added once per face after
-// the frames (add_to), from the directions of the frames consumed.
+// `total`, the sum of q(R·N) over the cameras, is added in the same face pass (the cosines
+// are at hand there). Workers add integers into their own arrays, summed at the end (after
+// each worker's last, partial batch): any thread count and any batching give the same bits.
 #pragma once
 
 #include <algorithm>
@@ -45,10 +44,14 @@ class TallyConsumer final : public FrameConsumer {
   // Binary F tallies the faces once per batch of this many frames (one bit each).
   static constexpr std::size_t kBatch = 8;
 
+  struct Sums {
+    std::uint32_t seen = 0, total = 0;  // Σ q where seen, Σ q: together, one cache line serves both
+  };
+
   struct Worker {
-    std::vector<std::uint32_t> seen;           // front side, every face: sum of q where seen
-    std::vector<std::uint32_t> seen_back;      // back side, faces from one_sided_faces on
-    std::vector<std::array<float, 3>> directions;  // of the frames consumed (for the totals)
+    std::vector<Sums> front;                   // every face
+    std::vector<Sums> back;                    // faces from one_sided_faces on
+    std::array<std::array<float, 3>, kBatch> directions;  // of the current batch's frames
     std::vector<std::uint16_t> owned;          // fractional F: pixels owned in the current frame (saturating)
     std::vector<std::uint8_t> owned_bits;      // binary F, by pixel id (0: background): bit j, owned in frame j
     std::vector<std::uint8_t> vertex_seen;     // per vertex: bit j, passes the depth test in frame j
@@ -68,8 +71,8 @@ class TallyConsumer final : public FrameConsumer {
     Worker& w = workers_[worker];
     const std::size_t faces = scene_.faces.size();
     if (w.vertex_seen.empty()) {
-      w.seen.resize(faces);
-      w.seen_back.resize(faces - one_sided_);
+      w.front.resize(faces);
+      w.back.resize(faces - one_sided_);
       if (options_.fractional) {
         w.owned.assign(faces, 0);
       } else {
@@ -82,7 +85,7 @@ class TallyConsumer final : public FrameConsumer {
       }
     }
     const std::array<float, 3> direction = to_float3(frame.view.direction);
-    w.directions.push_back(direction);
+    w.directions[w.batched] = direction;
     const std::uint32_t* ids = frame.ids.data();
     const std::size_t pixels = frame.ids.size();
     // Fractional F is tallied frame by frame (bit 0); binary F frame j of a batch is bit j.
@@ -108,20 +111,25 @@ class TallyConsumer final : public FrameConsumer {
     }
   }
 
-  /// Sum of all workers' tallies (after the last batches), and the totals of the frames they consumed.
+  /// Sum of all workers' tallies, after each one's last, partial batch.
   void add_to(VisibilityTally& out) {
     parallel_for(0, workers_.size(), static_cast<unsigned>(workers_.size()), [&](unsigned, std::size_t i) {
       if (workers_[i].batched > 0) tally_batch(workers_[i]);
     });
     for (const Worker& w : workers_) {
-      for (std::size_t t = 0; t < w.seen.size(); ++t) out.seen[t] += w.seen[t];
-      for (std::size_t t = 0; t < w.seen_back.size(); ++t) out.seen_back[t] += w.seen_back[t];
+      for (std::size_t t = 0; t < w.front.size(); ++t) {
+        out.seen[t] += w.front[t].seen;
+        out.total[t] += w.front[t].total;
+      }
+      for (std::size_t t = 0; t < w.back.size(); ++t) {
+        out.seen_back[t] += w.back[t].seen;
+        out.total_back[t] += w.back[t].total;
+      }
     }
-    add_totals(out);
   }
 
  private:
-  // Fractional F for one frame: q times the fraction of the face's pixels it owns.
+  // Fractional F and the totals for one frame: q times the fraction of the face's pixels it owns.
   void tally_frame(const std::array<float, 3>& direction, const Frame& frame, Worker& w) const {
     const std::size_t faces = scene_.faces.size();
     for (std::size_t first = 0; first < faces; first += RenderScene::kClusterSize) {
@@ -132,23 +140,26 @@ class TallyConsumer final : public FrameConsumer {
       const std::uint8_t* vertex_seen = w.vertex_seen.data();
       for (std::size_t t = first; t < last; ++t) {
         const Face& f = face[t];
+        const float cosine = dot(face_normals_[t], direction);
+        const std::uint32_t q = quantized(cosine), q_back = quantized(-cosine);
+        w.front[t].total += q;
+        if (t >= one_sided_) w.back[t - one_sided_].total += q_back;
         const bool visible = w.owned[t] != 0 || (vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0;
         if (!visible) continue;
-        const float cosine = dot(face_normals_[t], direction);
-        w.seen[t] += fractional_weight(t, quantized(cosine), frame, w);
-        if (t >= one_sided_) w.seen_back[t - one_sided_] += fractional_weight(t, quantized(-cosine), frame, w);
+        w.front[t].seen += fractional_weight(t, q, frame, w);
+        if (t >= one_sided_) w.back[t - one_sided_].seen += fractional_weight(t, q_back, frame, w);
       }
     }
   }
 
-  // Binary F for the frames of the batch, one pass over the faces for all of them (the face
-  // data is read once per batch, not once per frame: the pass is bound by its loads). A face
-  // is seen in frame j when it owns a pixel there or one of its vertices passed the depth
-  // test (bit j). Unused lanes have direction 0, so q = 0 there.
+  // Binary F and the totals for the frames of the batch, one pass over the faces for all of
+  // them (the face data is read once per batch, not once per frame: the pass is bound by its
+  // loads). A face is seen in frame j when it owns a pixel there or one of its vertices
+  // passed the depth test (bit j). Unused lanes have direction 0, so q = 0 there.
   void tally_batch(Worker& w) const {
     const std::size_t frames = w.batched, faces = scene_.faces.size();
     alignas(16) float dx[kBatch] = {}, dy[kBatch] = {}, dz[kBatch] = {};
-    const std::array<float, 3>* batch = w.directions.data() + (w.directions.size() - frames);
+    const std::array<float, 3>* batch = w.directions.data();
     for (std::size_t j = 0; j < frames; ++j) {
       dx[j] = batch[j][0];
       dy[j] = batch[j][1];
@@ -179,22 +190,32 @@ class TallyConsumer final : public FrameConsumer {
     const std::array<float, 3>* normal = face_normals_.data();
     const std::uint8_t* owned = w.owned_bits.data() + 1;  // by face, not by id
     const std::uint8_t* vertex_seen = w.vertex_seen.data();
-    std::uint32_t* front = w.seen.data();
-    std::uint32_t* back = w.seen_back.data();  // scene faces from one_sided_ on
+    Sums* front = w.front.data();
+    Sums* back = w.back.data();  // scene faces from one_sided_ on
     for (std::size_t t = first; t < last; ++t) {
       const Face& f = face[t];
       const std::uint32_t visible = owned[t] | vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]];
       const float nx = normal[t][0], ny = normal[t][1], nz = normal[t][2];
-      std::uint32_t sum = 0, sum_back = 0;
+      std::uint32_t seen = 0, total = 0, seen_back = 0, total_back = 0;
       for (std::size_t j = 0; j < kBatch; ++j) {
         const float cosine = nx * dx[j] + ny * dy[j] + nz * dz[j];  // as dot(normal, direction)
         // A mask, not `seen ? q : 0`, which compiles to a branch that is a coin toss on a scan.
         const std::uint32_t mask = 0u - ((visible >> j) & 1u);
-        sum += quantized(cosine) & mask;
-        if (TwoSided) sum_back += quantized(-cosine) & mask;
+        const std::uint32_t q = quantized(cosine);
+        seen += q & mask;
+        total += q;
+        if (TwoSided) {
+          const std::uint32_t q_back = quantized(-cosine);
+          seen_back += q_back & mask;
+          total_back += q_back;
+        }
       }
-      front[t] += sum;
-      if (TwoSided) back[t - one_sided_] += sum_back;
+      front[t].seen += seen;
+      front[t].total += total;
+      if (TwoSided) {
+        back[t - one_sided_].seen += seen_back;
+        back[t - one_sided_].total += total_back;
+      }
     }
   }
 
@@ -295,43 +316,6 @@ class TallyConsumer final : public FrameConsumer {
                               shows_corner(faces, ids[p + row], i) | shows_corner(faces, ids[p + row + 1], i);
       seen[i] = static_cast<std::uint8_t>(seen[i] | (bit & (0u - corner)));
     }
-  }
-
-  // total += Σ q(R·N) over the consumed frames' directions R, and total_back += Σ q(−R·N) for
-  // the two-sided faces: the same floats and quantisation as the per-frame pass (quantize_weight;
-  // a face of a cluster skipped as turned away has q = 0 there), so the same integers.
-  void add_totals(VisibilityTally& out) const {
-    std::vector<std::array<float, 3>> directions;
-    for (const Worker& w : workers_) directions.insert(directions.end(), w.directions.begin(), w.directions.end());
-    const std::size_t faces = scene_.faces.size();
-    if (directions.empty()) return;
-    constexpr std::size_t kChunk = 2048;  // the chunk's normals and sums stay in L1
-    const std::size_t chunks = (faces + kChunk - 1) / kChunk;
-    const unsigned workers = worker_count(static_cast<unsigned>(workers_.size()), chunks);
-    parallel_for(0, chunks, workers, [&](unsigned, std::size_t chunk) {
-      const std::size_t first = chunk * kChunk, count = std::min(faces, first + kChunk) - first;
-      // One array per axis, cameras outside and faces inside: the face loop vectorises.
-      alignas(64) float nx[kChunk], ny[kChunk], nz[kChunk];
-      alignas(64) std::uint32_t front[kChunk] = {}, back[kChunk] = {};
-      for (std::size_t i = 0; i < count; ++i) {
-        nx[i] = face_normals_[first + i][0];
-        ny[i] = face_normals_[first + i][1];
-        nz[i] = face_normals_[first + i][2];
-      }
-      for (const std::array<float, 3>& d : directions) {
-        const float dx = d[0], dy = d[1], dz = d[2];
-        for (std::size_t i = 0; i < count; ++i) {
-          const float cosine = nx[i] * dx + ny[i] * dy + nz[i] * dz;  // as dot(normal, direction)
-          front[i] += quantized(cosine);
-          back[i] += quantized(-cosine);
-        }
-      }
-      for (std::size_t i = 0; i < count; ++i) {
-        const std::size_t t = first + i;
-        out.total[t] += front[i];
-        if (t >= one_sided_) out.total_back[t - one_sided_] += back[i];
-      }
-    });
   }
 
   // quantize_weight with the clamp at zero moved after a signed conversion: for w < 0 the
