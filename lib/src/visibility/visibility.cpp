@@ -84,7 +84,12 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   const std::size_t input_faces = mesh.num_faces();
   stats_.input_faces = input_faces;
   stats_.resolution = resolution;
-  for (const Face& f : mesh.faces) stats_.degenerate_faces += is_degenerate(mesh, f) ? 1 : 0;
+  // Once per face (the winding and finish() ask again).
+  input_degenerate_.resize(input_faces);
+  for (std::size_t f = 0; f < input_faces; ++f) {
+    input_degenerate_[f] = is_degenerate(mesh, mesh.faces[f]) ? 1 : 0;
+    stats_.degenerate_faces += input_degenerate_[f];
+  }
 
   // Canonical winding (core/orientation.h): the faces rendered do not depend on the input's.
   input_reversed_.assign(input_faces, 0);
@@ -95,7 +100,7 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
     const OrientationPatches patches = orientation_patches(mesh);
     for (std::size_t f = 0; f < input_faces; ++f) {
       input_reversed_[f] = patches.reversed[f];
-      input_one_sided_[f] = patches.closed[patches.patch_of_face[f]] && !is_degenerate(mesh, mesh.faces[f]) ? 1 : 0;
+      input_one_sided_[f] = patches.closed[patches.patch_of_face[f]] && input_degenerate_[f] == 0 ? 1 : 0;
     }
   }
   auto wound_face = [&](std::size_t f) {
@@ -273,7 +278,7 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   std::vector<double> vertex_weighted(input_.num_vertices(), 0.0), vertex_weight(input_.num_vertices(), 0.0);
   for (std::size_t f = 0; f < input_faces; ++f) {
     const bool faced = weight[0][f] > 0 || (back_sums > 0 && weight[1][f] > 0);
-    if (!faced || is_degenerate(input_, input_.faces[f])) continue;
+    if (!faced || input_degenerate_[f] != 0) continue;
     defined[f] = true;
     out.face[f] = std::max(out.face_front[f], out.face_back[f]);  // the better-seen side
     const double area = norm(face_normal_unnormalized(input_, input_.faces[f]));
@@ -292,7 +297,7 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
   for (std::size_t f = 0; f < input_faces; ++f) {
     const Face& face = input_.faces[f];
     if (!defined[f]) {
-      if (!is_degenerate(input_, face)) ++out.stats.unfaced_faces;
+      if (input_degenerate_[f] == 0) ++out.stats.unfaced_faces;
       double sum = 0;
       int count = 0;
       for (VertexIndex v : face) {

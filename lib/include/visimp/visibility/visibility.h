@@ -123,6 +123,7 @@ class VisibilityJob {
   VisibilityOptions options_;
   std::vector<std::uint8_t> input_reversed_;   ///< per input face: canonical winding is the reverse
   std::vector<std::uint8_t> input_one_sided_;  ///< per input face: on a closed outward surface
+  std::vector<std::uint8_t> input_degenerate_;  ///< per input face: is_degenerate (core/mesh_stats.h)
   int resolution_;
   std::optional<RefinedMesh> refined_;
   RenderScene scene_;
