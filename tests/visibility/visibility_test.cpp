@@ -142,6 +142,52 @@ TEST(Visibility, SameBitsForAnyThreadCount) {
   EXPECT_EQ(one.vertex, three.vertex);
 }
 
+// The tallies against their definition: total = Σ over cameras of q(R·N) per side, the same
+// for one worker and three (whose batches of 8 frames end at other cameras), on an open bowl,
+// whose faces are tallied from both sides. Within one unit of q per camera: the test's normal
+// is computed from the scene's float positions, the library's from the input's doubles.
+TEST(Visibility, TotalsAreTheSumOfEveryCamerasWeightPerSide) {
+  const Mesh sphere = test::icosphere(3);
+  Mesh bowl;
+  bowl.positions = sphere.positions;
+  for (const Face& f : sphere.faces) {
+    if (sphere.positions[f[0]].z + sphere.positions[f[1]].z + sphere.positions[f[2]].z < 1.5) bowl.faces.push_back(f);
+  }
+  const CameraSet cameras = octahedron_cameras(2);  // 66: several batches and a partial one
+  const VisibilityJob job(bowl, 128, {});
+  const VisibilityTally one = job.render(cameras, 0, cameras.size(), *make_raster_renderer({128, 1}));
+  const VisibilityTally three = job.render(cameras, 0, cameras.size(), *make_raster_renderer({128, 3}));
+  EXPECT_EQ(one.seen, three.seen);
+  EXPECT_EQ(one.total, three.total);
+  EXPECT_EQ(one.seen_back, three.seen_back);
+  EXPECT_EQ(one.total_back, three.total_back);
+
+  const RenderScene& scene = job.scene();
+  const std::size_t one_sided = one.key.one_sided_faces;
+  ASSERT_LT(one_sided, scene.faces.size()) << "the bowl is open: its faces are two-sided";
+  ASSERT_EQ(one.total_back.size(), scene.faces.size() - one_sided);
+  for (std::size_t t = 0; t < scene.faces.size(); ++t) {
+    const Face& f = scene.faces[t];
+    auto at = [&](int k) {
+      const auto& p = scene.positions[f[k]];
+      return Vec3(p[0], p[1], p[2]);
+    };
+    const Vec3 n = cross(at(1) - at(0), at(2) - at(0));
+    std::int64_t front = 0, back = 0;
+    for (const Vec3& d : cameras.directions) {
+      const auto cosine = static_cast<float>(dot(n, d) / (norm(n) * norm(d)));
+      front += quantize_weight(cosine);
+      back += quantize_weight(-cosine);
+    }
+    const auto count = static_cast<std::int64_t>(cameras.size());
+    ASSERT_LE(std::abs(front - std::int64_t{one.total[t]}), count) << "face " << t;
+    if (t >= one_sided) {
+      ASSERT_LE(std::abs(back - std::int64_t{one.total_back[t - one_sided]}), count) << "face " << t;
+    }
+    ASSERT_LE(one.seen[t], one.total[t]);
+  }
+}
+
 TEST(Visibility, MergedSlicesEqualOneRun) {
   const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
   const CameraSet cameras = octahedron_cameras(2);
