@@ -121,9 +121,11 @@ int run(const std::vector<std::string>& args) {
   int repeat = 1;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "--repeat" && i + 1 < args.size()) {
-      repeat = std::stoi(args[++i]);
-      if (repeat < 1 || repeat > 100) throw visimp::UsageError("--repeat wants 1..100, got " + args[i]);
+    if (a == "--repeat") {
+      const std::string value = i + 1 < args.size() ? args[++i] : "nothing";
+      const bool digits = !value.empty() && value.size() <= 3 && value.find_first_not_of("0123456789") == std::string::npos;
+      repeat = digits ? std::stoi(value) : 0;
+      if (repeat < 1 || repeat > 100) throw visimp::UsageError("--repeat wants 1..100, got " + value);
     } else if (a == "--reference")
       reference = true;
     else if (a == "--raster")

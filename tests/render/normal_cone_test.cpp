@@ -26,6 +26,20 @@ std::vector<std::array<float, 3>> unit_normals(const Mesh& mesh) {
   return normals;
 }
 
+// `count` camera directions spread at random over the sphere.
+std::vector<std::array<float, 3>> random_directions(unsigned seed, int count) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> gauss;
+  std::vector<std::array<float, 3>> out;
+  for (int i = 0; i < count; ++i) {
+    std::array<float, 3> d{gauss(rng), gauss(rng), gauss(rng)};
+    const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (float& c : d) c /= length;
+    out.push_back(d);
+  }
+  return out;
+}
+
 // An icosphere with its vertices pushed in and out at random: a scan's noisy normals.
 Mesh bumpy_sphere(double amplitude = 0.03) {
   Mesh m = test::icosphere(4);
@@ -45,13 +59,8 @@ TEST(VertexCones, SkipOnlyVerticesWhoseFacesAllTurnAway) {
   for (std::size_t t = 0; t < mesh.faces.size(); ++t) {
     for (const VertexIndex v : mesh.faces[t]) faces_of[v].push_back(t);
   }
-  std::mt19937 rng(11);
-  std::normal_distribution<float> gauss;
   std::size_t skipped = 0, tested = 0;
-  for (int camera = 0; camera < 200; ++camera) {
-    std::array<float, 3> d{gauss(rng), gauss(rng), gauss(rng)};
-    const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (float& c : d) c /= length;
+  for (const std::array<float, 3>& d : random_directions(11, 200)) {
     for (std::size_t v = 0; v < mesh.num_vertices(); ++v, ++tested) {
       if (!scene.vertex_cones[v].all_back_facing(d)) continue;
       ++skipped;
@@ -122,13 +131,8 @@ TEST(VertexClusters, SkipOnlyRunsWhoseFacesAllTurnAway) {
   scene.compute_normal_cones(normals);
   constexpr std::size_t kRun = RenderScene::kClusterSize;
   ASSERT_EQ(scene.vertex_clusters.size(), (mesh.num_vertices() + kRun - 1) / kRun);
-  std::mt19937 rng(5);
-  std::normal_distribution<float> gauss;
   std::size_t skipped = 0, runs = 0;
-  for (int camera = 0; camera < 200; ++camera) {
-    std::array<float, 3> d{gauss(rng), gauss(rng), gauss(rng)};
-    const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (float& c : d) c /= length;
+  for (const std::array<float, 3>& d : random_directions(5, 200)) {
     std::vector<bool> run_skipped(scene.vertex_clusters.size());
     for (std::size_t c = 0; c < run_skipped.size(); ++c, ++runs) {
       run_skipped[c] = scene.vertex_clusters[c].all_back_facing(d);

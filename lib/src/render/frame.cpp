@@ -33,6 +33,17 @@ RenderScene RenderScene::from_mesh(const Mesh& mesh, bool cull_back_faces, const
 
 namespace {
 
+// The cone around a unit axis whose normals are all within acos(min_cos) of it; the default
+// (never skipped) for a cone of ~90° or more, which never lies wholly behind a camera.
+NormalCone cone_around(const Vec3& axis, double min_cos) {
+  NormalCone cone;
+  if (min_cos <= 0.01) return cone;
+  cone.axis = {static_cast<float>(axis.x), static_cast<float>(axis.y), static_cast<float>(axis.z)};
+  // Margin: float normals, and screen-space culling of faces seen almost edge-on.
+  cone.cutoff = static_cast<float>(-std::sqrt(1 - min_cos * min_cos) - 0.01);
+  return cone;
+}
+
 // Per vertex: the cone of the normals of its faces (see VertexCone).
 std::vector<VertexCone> vertex_normal_cones(const RenderScene& scene,
                                             const std::vector<std::array<float, 3>>& unit_normals) {
@@ -102,9 +113,7 @@ std::vector<NormalCone> vertex_cluster_cones(const RenderScene& scene,
   }
   std::vector<NormalCone> cones(clusters);
   for (std::size_t c = 0; c < clusters; ++c) {
-    if (never[c] != 0 || squared_norm(sum[c]) == 0 || min_cos[c] <= 0.01) continue;
-    cones[c].axis = {static_cast<float>(sum[c].x), static_cast<float>(sum[c].y), static_cast<float>(sum[c].z)};
-    cones[c].cutoff = static_cast<float>(-std::sqrt(1 - min_cos[c] * min_cos[c]) - 0.01);  // as for face clusters
+    if (never[c] == 0 && squared_norm(sum[c]) > 0) cones[c] = cone_around(sum[c], min_cos[c]);
   }
   return cones;
 }
@@ -126,11 +135,7 @@ void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& 
       const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
       if (squared_norm(n) > 0) min_cos = std::min(min_cos, dot(axis, n));
     }
-    if (min_cos <= 0.01) continue;  // a cone of ~90° or more never lies wholly behind
-    NormalCone& cone = clusters[c];
-    cone.axis = {static_cast<float>(axis.x), static_cast<float>(axis.y), static_cast<float>(axis.z)};
-    // Margin: float normals, and screen-space culling of faces seen almost edge-on.
-    cone.cutoff = static_cast<float>(-std::sqrt(1 - min_cos * min_cos) - 0.01);
+    clusters[c] = cone_around(axis, min_cos);
   }
   vertex_cones = vertex_normal_cones(*this, unit_normals);
   vertex_clusters = vertex_cluster_cones(*this, unit_normals);

@@ -141,7 +141,7 @@ class TallyConsumer final : public FrameConsumer {
       for (std::size_t t = first; t < last; ++t) {
         const Face& f = face[t];
         const float cosine = dot(face_normals_[t], direction);
-        const std::uint32_t q = quantized(cosine), q_back = quantized(-cosine);
+        const std::uint32_t q = quantize_weight(cosine), q_back = quantize_weight(-cosine);
         w.front[t].total += q;
         if (t >= one_sided_) w.back[t - one_sided_].total += q_back;
         const bool visible = w.owned[t] != 0 || (vertex_seen[f[0]] | vertex_seen[f[1]] | vertex_seen[f[2]]) != 0;
@@ -201,11 +201,11 @@ class TallyConsumer final : public FrameConsumer {
         const float cosine = nx * dx[j] + ny * dy[j] + nz * dz[j];  // as dot(normal, direction)
         // A mask, not `seen ? q : 0`, which compiles to a branch that is a coin toss on a scan.
         const std::uint32_t mask = 0u - ((visible >> j) & 1u);
-        const std::uint32_t q = quantized(cosine);
+        const std::uint32_t q = quantize_weight(cosine);
         seen += q & mask;
         total += q;
         if (TwoSided) {
-          const std::uint32_t q_back = quantized(-cosine);
+          const std::uint32_t q_back = quantize_weight(-cosine);
           seen_back += q_back & mask;
           total_back += q_back;
         }
@@ -316,14 +316,6 @@ class TallyConsumer final : public FrameConsumer {
                               shows_corner(faces, ids[p + row], i) | shows_corner(faces, ids[p + row + 1], i);
       seen[i] = static_cast<std::uint8_t>(seen[i] | (bit & (0u - corner)));
     }
-  }
-
-  // quantize_weight with the clamp at zero moved after a signed conversion: for w < 0 the
-  // rounded value truncates to at most 0, so the same integer. A float compare-and-select
-  // becomes a branch or keeps a loop scalar (it may trap); an integer one does neither.
-  static std::uint32_t quantized(float w) {
-    const auto q = static_cast<std::int32_t>(w * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f);
-    return static_cast<std::uint32_t>(q < 0 ? 0 : q);
   }
 
   // The pixel shows the background, or a face with corner i.

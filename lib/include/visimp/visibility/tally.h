@@ -74,10 +74,13 @@ struct VisibilityTally {
   static VisibilityTally parse(const std::string& bytes, const std::string& path);
 };
 
-/// Quantised camera weight q(w) (see above).
-/// (max, not a comparison: the tally loop has no branch on the sign of R·N.)
+/// Quantised camera weight q(w) (see above), for w in [-1, 1].
+/// The clamp at zero comes after a signed conversion (for w < 0 the rounded value truncates to
+/// at most 0: the same integer as clamping first). A float compare-and-select would become a
+/// branch or keep the tally loops scalar (it may trap); an integer one does neither.
 inline std::uint32_t quantize_weight(float w) {
-  return static_cast<std::uint32_t>(std::max(w, 0.0f) * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f);
+  const auto q = static_cast<std::int32_t>(w * static_cast<float>(VisibilityTally::kMaxWeight) + 0.5f);
+  return static_cast<std::uint32_t>(q < 0 ? 0 : q);
 }
 
 }  // namespace visimp
