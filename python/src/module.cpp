@@ -174,6 +174,12 @@ SimplifyMethod parse_method(const std::string& method) {
   throw py::value_error("method must be 'qb' or 'vg', got '" + method + "'");
 }
 
+QuadricWeights parse_quadric_weights(const std::string& weights) {
+  if (weights == "uniform") return QuadricWeights::uniform;
+  if (weights == "area") return QuadricWeights::area;
+  throw py::value_error("quadric_weights must be 'uniform' or 'area', got '" + weights + "'");
+}
+
 FaceSampling parse_sampling(const std::string& s) {
   if (s == "random") return FaceSampling::random;
   if (s == "stratified") return FaceSampling::stratified;
@@ -235,7 +241,8 @@ py::dict visibility_py(const py::handle& vertices, const py::handle& faces, cons
 
 py::object simplify_py(const py::handle& vertices, const py::handle& faces, const py::object& target,
                        const std::string& method, const py::object& visibility, const py::object& levels,
-                       double max_error, double boundary_weight, bool freeze_boundary, double max_normal_change_deg,
+                       double max_error, const std::string& quadric_weights, double boundary_weight,
+                       bool freeze_boundary, double max_normal_change_deg,
                        bool prevent_folds, double visibility_exponent, bool crease_visibility, const py::object& cameras,
                        int resolution, long long threads, const std::string& backend) {
   const Mesh mesh = mesh_from_arrays(vertices, faces, "");
@@ -243,6 +250,7 @@ py::object simplify_py(const py::handle& vertices, const py::handle& faces, cons
   set_target(options, target);
   options.method = parse_method(method);
   options.max_error = max_error;
+  options.quadric_weights = parse_quadric_weights(quadric_weights);
   options.boundary_weight = boundary_weight;
   options.freeze_boundary = freeze_boundary;
   options.max_normal_change_deg = max_normal_change_deg;
@@ -444,7 +452,7 @@ PYBIND11_MODULE(visimp, m) {
         "camera file). Returns a dict: face (V per face), face_front, face_back, vertex, mesh (V(M)), stats.");
   m.def("simplify", &simplify_py, "V"_a, "F"_a, py::kw_only(), "target"_a = py::none(), "method"_a = "qb",
         "visibility"_a = py::none(), "levels"_a = py::none(), "max_error"_a = simp.max_error,
-        "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
+        "quadric_weights"_a = "uniform", "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
         "max_normal_change_deg"_a = simp.max_normal_change_deg, "prevent_folds"_a = simp.prevent_folds,
         "visibility_exponent"_a = simp.visibility_exponent, "crease_visibility"_a = simp.crease_visibility,
         "cameras"_a = 258, "resolution"_a = render.resolution, "threads"_a = 0, "backend"_a = "raster",

@@ -228,37 +228,47 @@ TEST(SimplifyParallel, TheMeshIsTheSameForEveryThreadCount) {
     SimplifyOptions o;
     o.method = method;
     if (method == SimplifyMethod::vg)
-      for (std::size_t f = 0; f < m.num_faces(); ++f) o.face_visibility.push_back(m.positions[m.faces[f][0]].z > 0.3 ? 1.0f : 0.2f);
-    o.target_ratio = 0.1;
-    o.threads = 1;
-    const Simplified one = simplify(m, o);
-    // The phase ran and did most of the work, and left the rest to the serial loop.
-    EXPECT_GT(one.result.parallel_collapses, one.result.collapses / 2);
-    EXPECT_LT(one.result.parallel_collapses, one.result.collapses);
-    EXPECT_EQ(one.result.stop_reason, StopReason::target_reached);
-    for (unsigned threads : {2u, 3u}) {
-      SCOPED_TRACE("threads " + std::to_string(threads));
-      o.threads = threads;
-      const Simplified many = simplify(m, o);
-      expect_identical(one.mesh, many.mesh);
-      EXPECT_EQ(one.result.parallel_collapses, many.result.parallel_collapses);
-      EXPECT_EQ(one.result.max_error, many.result.max_error);
+      for (std::size_t f = 0; f < m.num_faces(); ++f)
+        o.face_visibility.push_back(m.positions[m.faces[f][0]].z > 0.3 ? 1.0f : 0.2f);
+    for (double ratio : {0.1, 0.02}) {  // the phase's two rungs
+      SCOPED_TRACE("ratio " + std::to_string(ratio));
+      o.target_ratio = ratio;
+      o.threads = 1;
+      const Simplified one = simplify(m, o);
+      // The phase ran and did most of the work, and left the rest to the serial loop.
+      EXPECT_GT(one.result.parallel_collapses, one.result.collapses / 2);
+      EXPECT_LT(one.result.parallel_collapses, one.result.collapses);
+      EXPECT_EQ(one.result.stop_reason, StopReason::target_reached);
+      for (unsigned threads : {2u, 3u}) {
+        SCOPED_TRACE("threads " + std::to_string(threads));
+        o.threads = threads;
+        const Simplified many = simplify(m, o);
+        expect_identical(one.mesh, many.mesh);
+        EXPECT_EQ(one.result.parallel_collapses, many.result.parallel_collapses);
+        EXPECT_EQ(one.result.max_error, many.result.max_error);
+      }
     }
   }
 }
 
 TEST(SimplifyParallel, LevelsOnBothSidesOfThePhaseEqualSeparateRuns) {
-  // 50% is above the phase's floor (3/10 of the input) and runs without it; the others share it.
+  // 50% is above the phase's first rung (3/10 of the input) and runs without it; 30% and 10%
+  // share the first rung's phase, 9001 faces (2.7%) and 3000 the deeper one (5% and below).
   const Mesh m = bumpy_sphere();
-  expect_levels_equal_separate_runs(m, SimplifyOptions{}, {m.num_faces() / 2, m.num_faces() * 3 / 10, 9001});
+  expect_levels_equal_separate_runs(m, SimplifyOptions{},
+                                    {m.num_faces() / 2, m.num_faces() * 3 / 10, m.num_faces() / 10, 9001, 3000});
   SimplifyOptions o;
   o.target_faces = m.num_faces() / 2;
   const SimplifyResult serial = simplify(m, o).result;
   EXPECT_EQ(serial.parallel_collapses, 0u);
   EXPECT_EQ(serial.stage_seconds.parallel_phase, 0.0);
+  o.target_faces = m.num_faces() / 10;
+  const SimplifyResult first_rung = simplify(m, o).result;
   o.target_faces = 9001;
   const SimplifyResult parallel = simplify(m, o).result;
-  EXPECT_GT(parallel.parallel_collapses, 0u);
+  EXPECT_GT(first_rung.parallel_collapses, 0u);
+  // The deeper rung does more of the work in the phase: partitions go on to 95% removed.
+  EXPECT_GT(parallel.parallel_collapses, first_rung.parallel_collapses + m.num_faces() / 10);
   // The stages account for the run: each took time, and together no more than the whole.
   for (const SimplifyResult& r : {serial, parallel}) {
     const SimplifyStageSeconds& s = r.stage_seconds;

@@ -33,8 +33,11 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
       option_spec("--ratio", "R", o.target_ratio, "keep this fraction of the input faces, in (0, 1]"),
       option_spec("--max-error", "E", o.max_error,
                   "never collapse with error above E (RMS plane distance / bbox diagonal)"),
+      choice_spec("--quadric-weights", o.quadric_weights,
+                  {{"uniform", QuadricWeights::uniform}, {"area", QuadricWeights::area}},
+                  "each face's plane weighs 1 (uniform, as Garland-Heckbert and CGAL) or its area"),
       option_spec("--boundary-weight", "W", o.boundary_weight,
-                  "weight of boundary constraint planes (x edge length^2); 0 disables"),
+                  "weight of boundary constraint planes, in faces (area weights: x edge length^2); 0 disables"),
       switch_spec("--freeze-boundary", o.freeze_boundary, "never move or remove boundary vertices"),
       option_spec("--max-normal-change", "DEG", o.max_normal_change_deg,
                   "reject collapses turning a face normal by more than DEG degrees, (0, 180]"),
@@ -130,11 +133,17 @@ struct Lane {
 // consecutive vertices in the engine's spatial order: a fixed size, so the result does not
 // depend on the thread count.
 constexpr std::size_t kPartitionVertices = std::size_t(1) << 15;
-// A partition stops once it has removed 7/10 of its faces: the phase never ends below 3/10 of
-// the input, so every target at or below that shares it.
-constexpr std::size_t kPhaseBudgetTenths = 7;
-// Rounds stop once this fraction of the faces is left.
-constexpr double kPhaseGoal = 0.35;
+// How deep the phase goes, a ladder fixed in advance so that a run's phase depends only on
+// which rung its target is under. At depth d a partition stops once it has removed
+// budget_per_mille/1000 of its faces, so the phase never ends below (1000 - budget)/1000 of
+// the input and every target at or below that shares it; rounds stop once `goal` of the
+// faces is left. Depth 1 serves targets from 30% down, depth 2 those at 5% and below.
+struct PhaseRung {
+  std::size_t budget_per_mille;
+  double goal;
+};
+constexpr PhaseRung kPhaseRungs[] = {{700, 0.35}, {950, 0.07}};
+constexpr int kDeepestPhase = 2;
 // Each round's cost threshold is the last one's float bits plus half a binade (x1.33-1.5).
 constexpr std::uint32_t kThresholdStep = std::uint32_t(1) << 22;
 constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
@@ -158,13 +167,15 @@ VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) {
 
 class CollapseEngine {
  public:
-  // `partitioned`: set up the parallel phase (run_parallel_phase); `workers` threads build the
-  // queue either way.
-  CollapseEngine(const Mesh& input, const SimplifyOptions& options, bool partitioned, unsigned workers)
+  // `phase_depth` > 0: set up the parallel phase of that rung (run_parallel_phase); `workers`
+  // threads build the queue either way.
+  CollapseEngine(const Mesh& input, const SimplifyOptions& options, int phase_depth, unsigned workers)
       : input_(input),
         frame_(unit_frame(bounding_box(input))),
         cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)),
-        prevent_folds_(options.prevent_folds) {
+        prevent_folds_(options.prevent_folds),
+        area_weights_(options.quadric_weights == QuadricWeights::area),
+        boundary_weight_(options.boundary_weight) {
     const std::size_t nv = input.num_vertices();
     reorder_spatially(input);
     positions_.resize(nv);
@@ -198,7 +209,8 @@ class CollapseEngine {
     classify_vertices(options);
     add_face_quadrics();
     serial_.last_vertex = static_cast<VertexIndex>(nv);
-    push_initial_edges(partitioned, workers);
+    phase_depth_ = phase_depth;
+    push_initial_edges(phase_depth > 0, workers);
   }
 
   // Collapses in queue order while more than `target` faces remain. A legal collapse that
@@ -251,13 +263,13 @@ class CollapseEngine {
 
   // The parallel phase: rounds in which every partition collapses, in its own queue's order,
   // the deep edges (is_deep) that cost at most the round's threshold, until the faces are
-  // down to kPhaseGoal of the start (or a partition has used its budget). Partitions change
-  // no vertex, face or list memory that another reads, so they may run on any threads in any
-  // order with the same result. Then every queue and the edges left over become one queue,
-  // and run() goes on from there serially. Needs an engine built `partitioned`.
+  // down to the rung's goal of the start (or every partition has used its budget). Partitions
+  // change no vertex, face or list memory that another reads, so they may run on any threads
+  // in any order with the same result. Then every queue and the edges left over become one
+  // queue, and run() goes on from there serially. Needs an engine built with a phase depth.
   void run_parallel_phase(double max_error, unsigned workers, SimplifyResult& result) {
     const std::size_t start = faces_alive_;
-    const std::size_t goal = static_cast<std::size_t>(kPhaseGoal * double(start));
+    const std::size_t goal = static_cast<std::size_t>(kPhaseRungs[phase_depth_ - 1].goal * double(start));
     vertex_faces_.split_into_regions(kPartitionVertices, 0.5);
     workers = worker_count(workers, lanes_.size());
     std::uint32_t threshold = first_threshold_;
@@ -417,7 +429,7 @@ class CollapseEngine {
             --fan_count;
         } else {
           boundary = true;
-          if (v < inc[i].other) add_boundary_plane(vf[inc[i].local], v, inc[i].other, options.boundary_weight);
+          if (v < inc[i].other) add_boundary_plane(vf[inc[i].local], v, inc[i].other);
         }
         i = j;
       }
@@ -427,15 +439,18 @@ class CollapseEngine {
     }
   }
 
-  void add_boundary_plane(std::uint32_t face, VertexIndex a, VertexIndex b, double weight) {
-    if (weight <= 0) return;
+  // The plane through boundary edge (a, b) perpendicular to its face, weighing
+  // boundary_weight faces: an area-weighted face weighs ~|e|², a uniform one 1.
+  void add_boundary_plane(std::uint32_t face, VertexIndex a, VertexIndex b) {
+    if (boundary_weight_ <= 0) return;
     const Face& f = faces_[face];
     const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
     const Vec3 e = positions_[b] - positions_[a];
     const Vec3 m = cross(e, n);
     const double len = norm(m);
     if (!(len > 0) || is_degenerate_in_unit_frame(f)) return;
-    Quadric q = Quadric::plane(m / len, positions_[a], weight * squared_norm(e));
+    const double weight = area_weights_ ? boundary_weight_ * squared_norm(e) : boundary_weight_;
+    Quadric q = Quadric::plane(m / len, positions_[a], weight);
     q.area = 0;  // constraint planes carry no surface area
     plain_quadric(a) += q;
     plain_quadric(b) += q;
@@ -450,7 +465,9 @@ class CollapseEngine {
     return is_degenerate_triangle(positions_[f[0]], positions_[f[1]], positions_[f[2]]);
   }
 
-  // Each face's plane quadric goes to its three vertices; under VG also V(t)² times it to
+  // Each face's plane quadric (weight 1, or its area) goes to its three vertices; the
+  // quadric's `area` is that weight, so an error / area is a mean squared distance either way.
+  // Under VG also V(t)² times it goes to
   // the cost quadrics. Collapses add quadrics, so a vertex always carries the weighted planes
   // of every input face merged into it: weights follow the input faces, never the current ones.
   void add_face_quadrics() {
@@ -459,7 +476,7 @@ class CollapseEngine {
       if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
       const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
       const double len = norm(n);
-      const Quadric q = Quadric::plane(n / len, positions_[f[0]], 0.5 * len);
+      const Quadric q = Quadric::plane(n / len, positions_[f[0]], area_weights_ ? 0.5 * len : 1.0);
       add_quadric(i, f, q);
     }
   }
@@ -581,7 +598,7 @@ class CollapseEngine {
       lane.first_vertex = static_cast<VertexIndex>(c * kPartitionVertices);
       lane.last_vertex = chunk_end(c);
       lane.faces_at_start = faces_of[c];
-      lane.face_budget = faces_of[c] * kPhaseBudgetTenths / 10;
+      lane.face_budget = faces_of[c] * kPhaseRungs[phase_depth_ - 1].budget_per_mille / 1000;
       for (std::size_t i = 0; i < partition_edges[c].size(); i += 16) sample.push_back(partition_edges[c][i].key);
       lane.heap.assign(std::move(partition_edges[c]));
     }
@@ -951,6 +968,9 @@ class CollapseEngine {
   UnitFrame frame_;
   double cos_max_normal_change_;
   bool prevent_folds_ = false;
+  int phase_depth_ = 0;        // the parallel phase's rung (0: none)
+  bool area_weights_ = false;  // a face's plane weighs its area, not 1
+  double boundary_weight_ = 0;
   std::vector<Vec3> positions_;         // unit frame
   std::vector<Face> faces_;
   std::vector<std::uint8_t> face_alive_;
@@ -1032,15 +1052,19 @@ std::size_t resolve_target(const Mesh& input, const SimplifyOptions& options) {
              : static_cast<std::size_t>(std::llround(options.target_ratio * double(input.num_faces())));
 }
 
-// Whether a run to `target` starts with the parallel phase: not for a caller's cost (which
-// need not be thread-safe), not for a mesh of one partition, and only for targets the phase
-// cannot pass (it ends at or above alive - Σ budgets >= alive - 7/10 alive faces). The thread
-// count plays no part: one thread runs the same phase.
-bool uses_parallel_phase(const Mesh& input, const SimplifyOptions& options, std::size_t target) {
-  if (options.collapse_cost != nullptr || input.num_vertices() < 2 * kPartitionVertices) return false;
+// How deep a run to `target` takes the parallel phase (0: no phase): not for a caller's cost
+// (which need not be thread-safe), not for a mesh of one partition, and only to a rung the
+// target is under (the phase ends at or above alive - Σ budgets >= alive - budget·alive
+// faces, so it cannot pass the target). The thread count plays no part: one thread runs the
+// same phase.
+int parallel_phase_depth(const Mesh& input, const SimplifyOptions& options, std::size_t target) {
+  if (options.collapse_cost != nullptr || input.num_vertices() < 2 * kPartitionVertices) return 0;
   std::size_t alive = 0;  // the faces the engine starts with (repeated indices dropped)
   for (const Face& f : input.faces) alive += f[0] != f[1] && f[1] != f[2] && f[0] != f[2];
-  return target <= alive - alive * kPhaseBudgetTenths / 10;
+  int depth = 0;
+  for (int d = 1; d <= kDeepestPhase; ++d)
+    if (target <= alive - alive * kPhaseRungs[d - 1].budget_per_mille / 1000) depth = d;
+  return depth;
 }
 
 // Seconds since the last lap (or since it was made).
@@ -1088,13 +1112,13 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   } else {
     SimplifyStageSeconds& stage = out.result.stage_seconds;
     StageClock clock;
-    const bool parallel = uses_parallel_phase(input, options, out.result.target_faces);
-    CollapseEngine engine(input, options, parallel, options.threads);
+    const int phase_depth = parallel_phase_depth(input, options, out.result.target_faces);
+    CollapseEngine engine(input, options, phase_depth, options.threads);
     out.result.locked_vertices = engine.locked_vertices();
     out.result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.set_observer(observer, out.result.target_faces);
     stage.setup = clock.lap();
-    if (parallel) {
+    if (phase_depth > 0) {
       engine.run_parallel_phase(options.max_error, options.threads, out.result);
       stage.parallel_phase = clock.lap();
     }
@@ -1121,27 +1145,26 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
   require_valid(input, "simplify input");
   check_visibility(input, options);
 
-  // Largest target first; equal targets share one snapshot. Targets the parallel phase
-  // cannot pass share one engine that runs it first; the others (if any) another that does
-  // not, so every level is what simplify() to its target gives.
+  // Largest target first; equal targets share one snapshot. Targets under the same rung of
+  // the parallel phase share one engine that runs that phase first (the targets above every
+  // rung one without it), so every level is what simplify() to its target gives.
   std::vector<std::size_t> order(targets.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return targets[x] > targets[y]; });
-  std::vector<std::size_t> serial_levels, parallel_levels;
-  for (std::size_t i : order)
-    (uses_parallel_phase(input, options, targets[i]) ? parallel_levels : serial_levels).push_back(i);
+  std::vector<std::size_t> levels_at_depth[kDeepestPhase + 1];
+  for (std::size_t i : order) levels_at_depth[parallel_phase_depth(input, options, targets[i])].push_back(i);
 
   std::vector<Simplified> out(targets.size());
-  auto run_levels = [&](const std::vector<std::size_t>& levels, bool parallel) {
+  auto run_levels = [&](const std::vector<std::size_t>& levels, int phase_depth) {
     if (levels.empty()) return;
     StageClock clock;
-    CollapseEngine engine(input, options, parallel, options.threads);
+    CollapseEngine engine(input, options, phase_depth, options.threads);
     engine.set_observer(observer, targets[levels.back()]);
     SimplifyResult running = start_result(input);
     running.locked_vertices = engine.locked_vertices();
     running.dropped_faces = engine.dropped_repeated_index_faces();
     running.stage_seconds.setup = clock.lap();
-    if (parallel) {
+    if (phase_depth > 0) {
       engine.run_parallel_phase(options.max_error, options.threads, running);
       running.stage_seconds.parallel_phase = clock.lap();
     }
@@ -1188,8 +1211,7 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
       finish_result(level, start);
     }
   };
-  run_levels(serial_levels, false);
-  run_levels(parallel_levels, true);
+  for (int depth = 0; depth <= kDeepestPhase; ++depth) run_levels(levels_at_depth[depth], depth);
   if (observer) observer->on_progress(1.0);
   return out;
 }

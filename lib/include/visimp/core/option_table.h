@@ -8,7 +8,10 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
+
+#include "visimp/core/errors.h"
 
 namespace visimp {
 
@@ -29,6 +32,11 @@ OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& fi
 OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help);
+/// One of a fixed set of names ("--quadric-weights area|uniform"); anything else is a
+/// UsageError listing the names. `choices` pairs each name with its value.
+template <class Enum>
+OptionSpec choice_spec(std::string flag, Enum& field, std::vector<std::pair<std::string, Enum>> choices,
+                       std::string help);
 /// A switch: present means true.
 OptionSpec switch_spec(std::string flag, bool& field, std::string help);
 /// A switch that turns a default-on feature off ("--no-refine"); its default text is the feature's state.
@@ -38,5 +46,24 @@ OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help);
 double parse_double(std::string_view text, const std::string& what);
 std::size_t parse_count(std::string_view text, const std::string& what);
 int parse_int(std::string_view text, const std::string& what);
+
+template <class Enum>
+OptionSpec choice_spec(std::string flag, Enum& field, std::vector<std::pair<std::string, Enum>> choices,
+                       std::string help) {
+  std::string names, current;
+  for (const auto& [name, value] : choices) {
+    names += (names.empty() ? "" : "|") + name;
+    if (value == field) current = name;
+  }
+  auto set = [&field, choices, names, flag](std::string_view text) {
+    for (const auto& [name, value] : choices)
+      if (text == name) {
+        field = value;
+        return;
+      }
+    throw UsageError(flag + " must be one of " + names + ", not '" + std::string(text) + "'");
+  };
+  return {std::move(flag), names, std::move(help), current, std::move(set), {}, &field};
+}
 
 }  // namespace visimp

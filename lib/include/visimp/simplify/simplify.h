@@ -8,7 +8,7 @@
 //        With V ≡ 1 VG is QB bit for bit.
 //
 // Roles, each a small piece of simplify.cpp:
-//   cost term      area-weighted plane quadrics of the faces (+ boundary constraint planes)
+//   cost term      plane quadrics of the faces, uniform or area-weighted (+ boundary planes)
 //   placement      place() in quadric.h (rank-revealing, never outside the neighbourhood)
 //   legality       link condition, manifold/lock rules, normal-flip limit (see docs/simplify.md)
 //   stop rule      target face count, or no legal collapse within max_error left
@@ -51,6 +51,13 @@ class CollapseCost {
   virtual double cost(const Edge& edge) const = 0;
 };
 
+/// How much each input face's plane counts in the quadrics (docs/simplify.md, "Area-weighted
+/// or uniform plane quadrics").
+enum class QuadricWeights {
+  uniform,  ///< every face's plane weighs 1 (Garland & Heckbert 1997; CGAL's GH policies)
+  area,     ///< a face's plane weighs its area (Garland's thesis, §5.3.3)
+};
+
 struct SimplifyOptions {
   /// Stop once the mesh has at most this many faces (0: use target_ratio, or only max_error).
   std::size_t target_faces = 0;
@@ -60,8 +67,11 @@ struct SimplifyOptions {
   /// new vertex to the planes of the faces merged into it, relative to the input's
   /// bounding-box diagonal. Infinity: no limit. With no target, simplify until this stops it.
   double max_error = std::numeric_limits<double>::infinity();
+  /// Weight of each face's plane in the quadrics.
+  QuadricWeights quadric_weights = QuadricWeights::uniform;
   /// Weight of the planes through each boundary edge perpendicular to its face, as a multiple
-  /// of the edge length squared (faces weigh their area). Keeps open outlines; 0 disables.
+  /// of one face's plane: W with uniform weights, W × the edge length squared with area
+  /// weights (a face weighs its area). Keeps open outlines; 0 disables.
   double boundary_weight = 100.0;
   /// Never move or remove a boundary vertex.
   bool freeze_boundary = false;
