@@ -452,7 +452,7 @@ PYBIND11_MODULE(visimp, m) {
         "camera file). Returns a dict: face (V per face), face_front, face_back, vertex, mesh (V(M)), stats.");
   m.def("simplify", &simplify_py, "V"_a, "F"_a, py::kw_only(), "target"_a = py::none(), "method"_a = "qb",
         "visibility"_a = py::none(), "levels"_a = py::none(), "max_error"_a = simp.max_error,
-        "quadric_weights"_a = "uniform", "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
+        "quadric_weights"_a = "area", "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
         "max_normal_change_deg"_a = simp.max_normal_change_deg, "prevent_folds"_a = simp.prevent_folds,
         "visibility_exponent"_a = simp.visibility_exponent, "crease_visibility"_a = simp.crease_visibility,
         "cameras"_a = 258, "resolution"_a = render.resolution, "threads"_a = 0, "backend"_a = "raster",

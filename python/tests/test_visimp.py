@@ -131,6 +131,19 @@ def test_simplify_equals_the_app(tmp_path, method):
     assert result["stop_reason"] == "target_reached"
 
 
+def test_quadric_weights_equal_the_app(tmp_path):
+    V, F = visimp.read_mesh(mesh_path("teapot.ply"))
+    out = str(tmp_path / "s.ply")
+    app("simplify", mesh_path("teapot.ply"), out, "--ratio", "0.1", "--quadric-weights", "uniform")
+    _, F_app = visimp.read_mesh(out)
+    _, F_uniform, _ = visimp.simplify(V, F, target=0.1, quadric_weights="uniform")
+    _, F_area, _ = visimp.simplify(V, F, target=0.1)  # area is the default
+    np.testing.assert_array_equal(F_uniform, F_app)
+    assert F_uniform.shape == F_area.shape and not np.array_equal(F_uniform, F_area)
+    with pytest.raises(ValueError, match="quadric_weights must be 'uniform' or 'area'"):
+        visimp.simplify(V, F, target=0.1, quadric_weights="none")
+
+
 def test_vg_with_given_visibility_equals_vg_that_measures_it(bunny):
     V, F = bunny
     vis = visimp.visibility(V, F, **QUICK)["face"]

@@ -34,8 +34,8 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
       option_spec("--max-error", "E", o.max_error,
                   "never collapse with error above E (RMS plane distance / bbox diagonal)"),
       choice_spec("--quadric-weights", o.quadric_weights,
-                  {{"uniform", QuadricWeights::uniform}, {"area", QuadricWeights::area}},
-                  "each face's plane weighs 1 (uniform, as Garland-Heckbert and CGAL) or its area"),
+                  {{"area", QuadricWeights::area}, {"uniform", QuadricWeights::uniform}},
+                  "a face's plane weighs its area, or 1 (uniform: as CGAL GH; lower Hausdorff, higher image error on CAD)"),
       option_spec("--boundary-weight", "W", o.boundary_weight,
                   "weight of boundary constraint planes, in faces (area weights: x edge length^2); 0 disables"),
       switch_spec("--freeze-boundary", o.freeze_boundary, "never move or remove boundary vertices"),
@@ -141,8 +141,11 @@ constexpr std::size_t kPartitionVertices = std::size_t(1) << 15;
 struct PhaseRung {
   std::size_t budget_per_mille;
   double goal;
+  // The goal counts only the faces the phase can remove (no cut vertex): the cut band stays
+  // at full resolution, and a deep goal over all faces would crush the interiors to meet it.
+  bool goal_of_interior;
 };
-constexpr PhaseRung kPhaseRungs[] = {{700, 0.35}, {950, 0.07}};
+constexpr PhaseRung kPhaseRungs[] = {{700, 0.35, false}, {950, 0.07, true}};
 constexpr int kDeepestPhase = 2;
 // Each round's cost threshold is the last one's float bits plus half a binade (x1.33-1.5).
 constexpr std::uint32_t kThresholdStep = std::uint32_t(1) << 22;
@@ -269,7 +272,14 @@ class CollapseEngine {
   // queue, and run() goes on from there serially. Needs an engine built with a phase depth.
   void run_parallel_phase(double max_error, unsigned workers, SimplifyResult& result) {
     const std::size_t start = faces_alive_;
-    const std::size_t goal = static_cast<std::size_t>(kPhaseRungs[phase_depth_ - 1].goal * double(start));
+    const PhaseRung& rung = kPhaseRungs[phase_depth_ - 1];
+    std::size_t counted = start;  // the faces the goal is a fraction of
+    if (rung.goal_of_interior) {
+      counted = 0;
+      for (std::size_t f = 0; f < faces_.size(); ++f)
+        counted += face_alive_[f] && !((flags_[faces_[f][0]] | flags_[faces_[f][1]] | flags_[faces_[f][2]]) & kCut);
+    }
+    const std::size_t goal_removed = counted - static_cast<std::size_t>(rung.goal * double(counted));
     vertex_faces_.split_into_regions(kPartitionVertices, 0.5);
     workers = worker_count(workers, lanes_.size());
     std::uint32_t threshold = first_threshold_;
@@ -285,7 +295,7 @@ class CollapseEngine {
       faces_alive_ = start - removed;
       report_progress();
       give_back_freed_memory();
-      if (faces_alive_ <= goal || lowest_left > kLastFiniteKey || threshold >= kLastFiniteKey) break;
+      if (removed >= goal_removed || lowest_left > kLastFiniteKey || threshold >= kLastFiniteKey) break;
       // The next threshold, skipping rounds in which nothing would be collapsed.
       threshold = std::max(lowest_left, threshold > kLastFiniteKey - kThresholdStep ? kLastFiniteKey
                                                                                      : threshold + kThresholdStep);
