@@ -3,6 +3,7 @@
 // in that frame so results do not depend on where or how large the input is.
 #pragma once
 
+#include <algorithm>
 #include <limits>
 
 #include "visimp/core/mesh.h"
@@ -16,7 +17,10 @@ struct BoundingBox {
            -std::numeric_limits<double>::infinity()};
 
   bool empty() const { return !(min.x <= max.x); }
-  void extend(const Vec3& p);
+  void extend(const Vec3& p) {  // inline: bounding_box() calls it per vertex of 14M-face meshes
+    min = {std::min(min.x, p.x), std::min(min.y, p.y), std::min(min.z, p.z)};
+    max = {std::max(max.x, p.x), std::max(max.y, p.y), std::max(max.z, p.z)};
+  }
   Vec3 center() const { return empty() ? Vec3{} : (min + max) * 0.5; }
   /// Length of the diagonal; 0 for an empty box or a single point.
   double diagonal() const { return empty() ? 0.0 : norm(max - min); }
