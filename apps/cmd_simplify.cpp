@@ -133,7 +133,7 @@ int run_simplify(const Args& args) {
     if (many)
       results = simplify_levels(mesh, options, targets, &progress);
     else
-      results.push_back(simplify(mesh, options, &progress));
+      results.push_back(simplify(std::move(mesh), options, &progress));  // mesh is not read again
   }
 
   t = std::chrono::steady_clock::now();

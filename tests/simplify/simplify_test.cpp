@@ -500,6 +500,30 @@ TEST(Simplify, ACollapseCostOrdersTheQueueAndWeightsFollowMerges) {
 // The engine works in its own spatial order (vertices along a Morton curve); what it returns
 // is in the input's: kept input vertices in increasing input index, faces in increasing input
 // face index (their quality travels with them), positions bit-exact where no collapse moved them.
+// simplify(Mesh&&) only saves memory: the same mesh, qualities and result as from a copy.
+TEST(Simplify, GivingUpTheInputGivesTheSameResult) {
+  Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  for (std::size_t f = 0; f < bunny.num_faces(); ++f) bunny.face_quality.push_back(float(f % 5));
+  for (std::size_t v = 0; v < bunny.num_vertices(); ++v) bunny.vertex_quality.push_back(float(v % 3));
+  SimplifyOptions o;
+  o.target_ratio = 0.1;
+  const Simplified kept = simplify(bunny, o);
+  Mesh given = bunny;
+  const Simplified moved = simplify(std::move(given), o);
+  EXPECT_EQ(moved.mesh.positions, kept.mesh.positions);
+  EXPECT_EQ(moved.mesh.faces, kept.mesh.faces);
+  EXPECT_EQ(moved.mesh.face_quality, kept.mesh.face_quality);
+  EXPECT_EQ(moved.mesh.vertex_quality, kept.mesh.vertex_quality);
+  EXPECT_EQ(moved.result.collapses, kept.result.collapses);
+  EXPECT_EQ(moved.result.faces_in, bunny.num_faces());
+  // Already at its target: the mesh itself comes back.
+  o.target_ratio = 1.0;
+  Mesh whole = bunny;
+  const Simplified same = simplify(std::move(whole), o);
+  EXPECT_EQ(same.mesh.faces, bunny.faces);
+  EXPECT_EQ(same.result.stop_reason, StopReason::nothing_to_do);
+}
+
 TEST(Simplify, OutputKeepsTheInputOrderWhateverTheEngineOrder) {
   Mesh mesh = read_mesh(test::bundled_mesh("bunny.ply"));
   mesh.face_quality.resize(mesh.num_faces());

@@ -177,6 +177,7 @@ class CollapseEngine {
         frame_(unit_frame(bounding_box(input))),
         cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)),
         prevent_folds_(options.prevent_folds),
+        input_faces_(input.num_faces()),
         area_weights_(options.quadric_weights == QuadricWeights::area),
         boundary_weight_(options.boundary_weight) {
     const std::size_t nv = input.num_vertices();
@@ -960,7 +961,7 @@ class CollapseEngine {
 
   void report_progress() {
     if (observer_ == nullptr || faces_alive_ > next_report_) return;
-    observer_->on_progress(planned_ ? std::min(1.0, double(input_.num_faces() - faces_alive_) / double(planned_))
+    observer_->on_progress(planned_ ? std::min(1.0, double(input_faces_ - faces_alive_) / double(planned_))
                                     : 1.0);
     next_report_ = faces_alive_ > report_every_ ? faces_alive_ - report_every_ : 0;
   }
@@ -978,7 +979,8 @@ class CollapseEngine {
   UnitFrame frame_;
   double cos_max_normal_change_;
   bool prevent_folds_ = false;
-  int phase_depth_ = 0;        // the parallel phase's rung (0: none)
+  std::size_t input_faces_ = 0;  // the input may give its faces up after set-up (simplify(Mesh&&))
+  int phase_depth_ = 0;          // the parallel phase's rung (0: none)
   bool area_weights_ = false;  // a face's plane weighs its area, not 1
   double boundary_weight_ = 0;
   std::vector<Vec3> positions_;         // unit frame
@@ -1108,7 +1110,11 @@ void finish_result(Simplified& out, std::chrono::steady_clock::time_point start)
 
 }  // namespace
 
-Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer) {
+namespace {
+
+// simplify() for both overloads. `owned`: the caller's mesh, given up (the same object as
+// `input`): its faces are dropped once the engine has its own copy.
+Simplified simplify_one(const Mesh& input, Mesh* owned, const SimplifyOptions& options, SimplifyObserver* observer) {
   const auto start = std::chrono::steady_clock::now();
   check_options(options);
   require_valid(input, "simplify input");
@@ -1118,12 +1124,14 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   out.result = start_result(input);
   out.result.target_faces = resolve_target(input, options);
   if (out.result.faces_in <= out.result.target_faces) {
-    out.mesh = input;
+    out.mesh = owned != nullptr ? std::move(*owned) : input;
   } else {
     SimplifyStageSeconds& stage = out.result.stage_seconds;
     StageClock clock;
     const int phase_depth = parallel_phase_depth(input, options, out.result.target_faces);
     CollapseEngine engine(input, options, phase_depth, options.threads);
+    // The engine reads only the input's positions and qualities from here on.
+    if (owned != nullptr) std::vector<Face>().swap(owned->faces);
     out.result.locked_vertices = engine.locked_vertices();
     out.result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.set_observer(observer, out.result.target_faces);
@@ -1141,6 +1149,16 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
   }
   finish_result(out, start);
   return out;
+}
+
+}  // namespace
+
+Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer) {
+  return simplify_one(input, nullptr, options, observer);
+}
+
+Simplified simplify(Mesh&& input, const SimplifyOptions& options, SimplifyObserver* observer) {
+  return simplify_one(input, &input, options, observer);
 }
 
 std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions& options,

@@ -162,6 +162,10 @@ struct Simplified {
 /// input order and quality values. Throws UsageError for out-of-range options and
 /// InvalidMeshError for an invalid mesh (see validate.h).
 Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyObserver* observer = nullptr);
+/// The same result, for a caller done with `input`: its faces are released once the engine
+/// has its own copy (12 bytes per face less at the peak: 168 MB at 14M faces), and a mesh
+/// already at its target is moved, not copied. `input` is left valid but unspecified.
+Simplified simplify(Mesh&& input, const SimplifyOptions& options, SimplifyObserver* observer = nullptr);
 
 /// Many levels in one collapse run: the mesh at each face count in `targets` (any order;
 /// results in the same order). Each level equals simplify() with that target_faces, bit for
