@@ -32,11 +32,11 @@ OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& fi
 OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help);
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help);
-/// One of a fixed set of names ("--quadric-weights area|uniform"); anything else is a
-/// UsageError listing the names. `choices` pairs each name with its value.
+/// One of a fixed set of names ("--quadric-weights area"); anything else is a UsageError
+/// listing the names. `choices` pairs each name with its value; the help should name them.
 template <class Enum>
-OptionSpec choice_spec(std::string flag, Enum& field, std::vector<std::pair<std::string, Enum>> choices,
-                       std::string help);
+OptionSpec choice_spec(std::string flag, std::string value_name, Enum& field,
+                       std::vector<std::pair<std::string, Enum>> choices, std::string help);
 /// A switch: present means true.
 OptionSpec switch_spec(std::string flag, bool& field, std::string help);
 /// A switch that turns a default-on feature off ("--no-refine"); its default text is the feature's state.
@@ -48,8 +48,8 @@ std::size_t parse_count(std::string_view text, const std::string& what);
 int parse_int(std::string_view text, const std::string& what);
 
 template <class Enum>
-OptionSpec choice_spec(std::string flag, Enum& field, std::vector<std::pair<std::string, Enum>> choices,
-                       std::string help) {
+OptionSpec choice_spec(std::string flag, std::string value_name, Enum& field,
+                       std::vector<std::pair<std::string, Enum>> choices, std::string help) {
   std::string names, current;
   for (const auto& [name, value] : choices) {
     names += (names.empty() ? "" : "|") + name;
@@ -63,7 +63,7 @@ OptionSpec choice_spec(std::string flag, Enum& field, std::vector<std::pair<std:
       }
     throw UsageError(flag + " must be one of " + names + ", not '" + std::string(text) + "'");
   };
-  return {std::move(flag), names, std::move(help), current, std::move(set), {}, &field};
+  return {std::move(flag), std::move(value_name), std::move(help), current, std::move(set), {}, &field};
 }
 
 }  // namespace visimp
