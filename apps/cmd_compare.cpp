@@ -79,6 +79,7 @@ int run_compare(const Args& args) {
   options.image.supersample = static_cast<int>(image_supersample);
   options.image.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, kMaxThreads));
   options.simplify.threads = options.image.threads;
+  options.visibility.threads = options.image.threads;
   options.simplify.target_ratio = 0.5;  // placeholder so check_options accepts it; levels set the targets
   if (!(options.min_ratio > 0 && options.min_ratio <= options.max_ratio && options.max_ratio < 1))
     throw UsageError("--min-ratio and --max-ratio must satisfy 0 < min <= max < 1");

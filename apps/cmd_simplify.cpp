@@ -75,6 +75,7 @@ int run_simplify(const Args& args) {
   if (!many) check_options(options);
   check_options(visibility_options);
   options.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, 1024));  // rendering and collapsing
+  visibility_options.threads = options.threads;
   const std::string& in = parser.positionals()[0];
   const std::string& out = parser.positionals()[1];
   if (many && out == "-") throw UsageError("several levels need a file name for OUT, not '-'");

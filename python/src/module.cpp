@@ -231,8 +231,9 @@ py::dict visibility_py(const py::handle& vertices, const py::handle& faces, cons
                        long long threads, const std::string& backend, bool trust_winding, bool refine, bool depth_test,
                        double depth_tolerance_pixels, double worst_view_cosine, bool fractional) {
   const Mesh mesh = mesh_from_arrays(vertices, faces, "");
-  const VisibilityOptions options =
+  VisibilityOptions options =
       visibility_options(trust_winding, refine, depth_test, depth_tolerance_pixels, worst_view_cosine, fractional);
+  options.threads = thread_count(threads);
   Sampling s = sampling(cameras, resolution, thread_count(threads), backend);
   const Visibility v = without_gil(
       [&](SignalCheck& signals) { return compute_visibility(mesh, s.cameras, *s.renderer, options, &signals); });
@@ -294,6 +295,7 @@ py::object simplify_py(const py::handle& vertices, const py::handle& faces, cons
     } else {
       s = sampling(cameras, resolution, thread_count(threads), backend);
       vis_options = VisibilityOptions{};
+      vis_options->threads = thread_count(threads);
     }
   } else if (!visibility.is_none()) {
     throw py::value_error("visibility is only used by method='vg'");

@@ -22,6 +22,29 @@ Mesh reversed_where(Mesh m, const std::vector<bool>& flip) {
   return m;
 }
 
+// The edge matching on several threads, and a patch's volume summed in runs, give the same
+// patches, windings and volumes as one thread: two spheres larger than one run (one
+// randomly flipped face by face), and an open sheet.
+TEST(Orientation, SamePatchesForAnyThreadCount) {
+  Mesh m = test::icosphere(6);  // 81,920 faces
+  std::vector<bool> flip(m.num_faces());
+  for (std::size_t f = 0; f < flip.size(); ++f) flip[f] = (f * 2654435761u) % 7 < 3;
+  m = reversed_where(m, flip);
+  for (const Mesh& part : {test::icosphere(5, 0.5), test::grid(40)}) {
+    const auto offset = static_cast<VertexIndex>(m.positions.size());
+    for (const Vec3& p : part.positions) m.positions.push_back(p + Vec3{3, 0, 0});
+    for (const Face& f : part.faces) m.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  }
+  const OrientationPatches one = orientation_patches(m, 1), three = orientation_patches(m, 3);
+  ASSERT_EQ(one.patches(), 3u);
+  EXPECT_EQ(one.closed, (std::vector<std::uint8_t>{1, 1, 0}));
+  EXPECT_EQ(one.patch_of_face, three.patch_of_face);
+  EXPECT_EQ(one.reversed, three.reversed);
+  EXPECT_EQ(one.closed, three.closed);
+  EXPECT_EQ(one.signed_volume, three.signed_volume);
+  EXPECT_NEAR(one.signed_volume[0], 4.18879, 0.01);  // 4π/3, the unit sphere's
+}
+
 TEST(Orientation, CanonicalFaceIgnoresRotationAndKeepsTheSide) {
   EXPECT_EQ(canonical_face({4, 2, 7}, false), (Face{2, 7, 4}));
   EXPECT_EQ(canonical_face({7, 4, 2}, false), (Face{2, 7, 4}));

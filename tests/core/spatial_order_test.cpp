@@ -47,5 +47,25 @@ TEST(SpatialOrder, FaceAndVertexOrdersAreSortedPermutationsOnARealMesh) {
   for (std::size_t i = 0; i < face_seen.size(); ++i) ASSERT_EQ(face_seen[i], i);
 }
 
+// The radix sort split among threads (each part scattering behind the earlier parts) keeps
+// the one-thread order: on a mesh of several parts' worth of faces, and a sorted one.
+TEST(SpatialOrder, FaceOrderIsTheSameForAnyThreadCount) {
+  const Mesh m = test::icosphere(7);  // 327,680 faces
+  const std::vector<std::uint32_t> one = spatial_face_order(m, 1), three = spatial_face_order(m, 3);
+  EXPECT_EQ(one, three);
+  const BoundingBox box = bounding_box(m);
+  const Vec3 extent = box.max - box.min;
+  const double scale = 1.0 / std::max({extent.x, extent.y, extent.z});
+  auto code = [&](std::uint32_t f) {
+    Face face = m.faces[f];
+    std::sort(face.begin(), face.end());
+    return morton_code(((m.positions[face[0]] + m.positions[face[1]] + m.positions[face[2]]) / 3.0 - box.min) * scale);
+  };
+  for (std::size_t i = 1; i < three.size(); ++i) {
+    const std::uint32_t a = code(three[i - 1]), b = code(three[i]);
+    ASSERT_TRUE(a < b || (a == b && three[i - 1] < three[i])) << "at " << i;
+  }
+}
+
 }  // namespace
 }  // namespace visimp

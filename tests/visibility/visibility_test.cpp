@@ -142,6 +142,33 @@ TEST(Visibility, SameBitsForAnyThreadCount) {
   EXPECT_EQ(one.vertex, three.vertex);
 }
 
+// Preparing and finishing on several threads (VisibilityOptions::threads) changes nothing: a
+// closed sphere (one-sided faces) beside a fine open sheet (two-sided), many ranges of faces
+// each, and a coarse plate whose edges are long at 96 px: with and without refinement, the
+// same V, sides and counts on 1 and 3 threads.
+TEST(Visibility, SameResultForAnyPreparingThreadCount) {
+  Mesh scene = test::icosphere(6);  // 81,920 faces
+  append(scene, translated(scaled(test::grid(120), 0.02), {1.5, 0, 0}));
+  append(scene, translated(scaled(test::grid(3), 0.8), {-1, -1, -1.5}));
+  for (const bool refine : {false, true}) {
+    VisibilityOptions one, three;
+    one.refine = three.refine = refine;
+    one.threads = 1;
+    three.threads = 3;
+    const Visibility a = measure(scene, 96, one), b = measure(scene, 96, three);
+    EXPECT_EQ(a.stats.two_sided_faces, 2u * 120 * 120 + 2 * 3 * 3);
+    EXPECT_EQ(a.stats.refinement_rounds > 0, refine) << "the sheet's faces must be long at 96 px";
+    EXPECT_EQ(a.face, b.face);
+    EXPECT_EQ(a.face_front, b.face_front);
+    EXPECT_EQ(a.face_back, b.face_back);
+    EXPECT_EQ(a.vertex, b.vertex);
+    EXPECT_EQ(a.mesh, b.mesh);
+    EXPECT_EQ(a.stats.one_sided_faces, b.stats.one_sided_faces);
+    EXPECT_EQ(a.stats.seen_from_behind, b.stats.seen_from_behind);
+    EXPECT_EQ(a.stats.hidden_faces, b.stats.hidden_faces);
+  }
+}
+
 // The tallies against their definition: total = Σ over cameras of q(R·N) per side, the same
 // for one worker and three (whose batches of 8 frames end at other cameras), on an open bowl,
 // whose faces are tallied from both sides. Within one unit of q per camera: the test's normal

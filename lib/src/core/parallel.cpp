@@ -65,4 +65,16 @@ void parallel_for(std::size_t first, std::size_t last, unsigned workers,
   if (error) std::rethrow_exception(error);
 }
 
+void parallel_ranges(std::size_t n, std::size_t chunk, unsigned workers,
+                     const std::function<void(std::size_t begin, std::size_t end)>& job) {
+  chunk = std::max<std::size_t>(chunk, 1);
+  const std::size_t ranges = (n + chunk - 1) / chunk;
+  if (ranges <= 1 || workers <= 1) {  // no thread to start: run inline, in order
+    for (std::size_t r = 0; r < ranges; ++r) job(r * chunk, std::min(n, (r + 1) * chunk));
+    return;
+  }
+  parallel_for(0, ranges, static_cast<unsigned>(std::min<std::size_t>(workers, ranges)),
+               [&](unsigned, std::size_t r) { job(r * chunk, std::min(n, (r + 1) * chunk)); });
+}
+
 }  // namespace visimp

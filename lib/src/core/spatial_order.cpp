@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "visimp/core/bounding_box.h"
+#include "visimp/core/parallel.h"
 
 namespace visimp {
 
@@ -20,17 +21,37 @@ std::uint32_t morton_code(const Vec3& unit) {
 namespace {
 
 // Indices 0..n-1 stably sorted by a 30-bit key: three 10-bit passes of an LSD radix sort
-// (linear; std::sort of 64-bit keys took over a second at 14M faces). Equal keys keep index order.
-std::vector<std::uint32_t> order_by_key(const std::vector<std::uint32_t>& key) {
+// (linear; std::sort of 64-bit keys took over a second at 14M faces). Equal keys keep index
+// order. Each pass splits the input into one contiguous part per worker: the parts count
+// their buckets, and scatter behind the earlier parts' entries of each bucket, so the
+// order is the serial one for any thread count.
+std::vector<std::uint32_t> order_by_key(const std::vector<std::uint32_t>& key, unsigned threads) {
   constexpr int kBits = 10, kBuckets = 1 << kBits;
   const std::size_t n = key.size();
+  const unsigned parts = worker_count(threads, n / (1 << 18) + 1);
+  const std::size_t part_size = (n + parts - 1) / parts;
   std::vector<std::uint32_t> order(n), scratch(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::vector<std::vector<std::size_t>> start(parts, std::vector<std::size_t>(kBuckets));
   for (int shift = 0; shift < 30; shift += kBits) {
-    std::vector<std::size_t> start(kBuckets + 1, 0);
-    for (std::uint32_t i : order) ++start[((key[i] >> shift) & (kBuckets - 1)) + 1];
-    for (int b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
-    for (std::uint32_t i : order) scratch[start[(key[i] >> shift) & (kBuckets - 1)]++] = i;
+    auto bucket = [&](std::uint32_t i) { return (key[i] >> shift) & (kBuckets - 1); };
+    parallel_ranges(n, part_size, parts, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::size_t>& count = start[begin / part_size];
+      std::fill(count.begin(), count.end(), 0);
+      for (std::size_t k = begin; k < end; ++k) ++count[bucket(order[k])];
+    });
+    std::size_t offset = 0;
+    for (int b = 0; b < kBuckets; ++b) {
+      for (std::vector<std::size_t>& part : start) {
+        const std::size_t count = part[b];
+        part[b] = offset;
+        offset += count;
+      }
+    }
+    parallel_ranges(n, part_size, parts, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::size_t>& next = start[begin / part_size];
+      for (std::size_t k = begin; k < end; ++k) scratch[next[bucket(order[k])]++] = order[k];
+    });
     order.swap(scratch);
   }
   return order;
@@ -49,24 +70,26 @@ struct MortonBox {
 
 }  // namespace
 
-std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh) {
+std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh, unsigned threads) {
   const MortonBox code(mesh);
   std::vector<std::uint32_t> key(mesh.num_faces());
-  for (std::size_t f = 0; f < key.size(); ++f) {
-    // Summed in index order, so the key does not depend on how the face is wound or rotated.
-    Face face = mesh.faces[f];
-    std::sort(face.begin(), face.end());
-    const Vec3 centroid = (mesh.positions[face[0]] + mesh.positions[face[1]] + mesh.positions[face[2]]) / 3.0;
-    key[f] = code(centroid);
-  }
-  return order_by_key(key);
+  parallel_ranges(key.size(), 1 << 16, worker_count(threads, key.size()), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      // Summed in index order, so the key does not depend on how the face is wound or rotated.
+      Face face = mesh.faces[f];
+      std::sort(face.begin(), face.end());
+      const Vec3 centroid = (mesh.positions[face[0]] + mesh.positions[face[1]] + mesh.positions[face[2]]) / 3.0;
+      key[f] = code(centroid);
+    }
+  });
+  return order_by_key(key, threads);
 }
 
 std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh) {
   const MortonBox code(mesh);
   std::vector<std::uint32_t> key(mesh.num_vertices());
   for (std::size_t v = 0; v < key.size(); ++v) key[v] = code(mesh.positions[v]);
-  return order_by_key(key);
+  return order_by_key(key, 1);
 }
 
 }  // namespace visimp

@@ -44,101 +44,101 @@ NormalCone cone_around(const Vec3& axis, double min_cos) {
   return cone;
 }
 
-// Per vertex: the cone of the normals of its faces (see VertexCone).
-std::vector<VertexCone> vertex_normal_cones(const RenderScene& scene,
-                                            const std::vector<std::array<float, 3>>& unit_normals) {
+// The cones of vertices [first, last) (see VertexCone) and of their runs of kClusterSize
+// (`first` starts a run): every face is scanned, but only corners in the range are summed,
+// in face order. A vertex's sums so never depend on how vertices are split among threads.
+void vertex_range_cones(const RenderScene& scene, const std::vector<std::array<float, 3>>& unit_normals,
+                        std::size_t first, std::size_t last, std::vector<VertexCone>& vertex_cones,
+                        std::vector<NormalCone>& cluster_cones) {
+  constexpr std::size_t kSize = RenderScene::kClusterSize;
   const std::vector<Face>& faces = scene.faces;
   const std::size_t culled_faces = scene.culled_faces;
-  const std::size_t vertices = scene.positions.size();
-  std::vector<Vec3> axis(vertices);
-  std::vector<std::uint8_t> never(vertices, 0);  // has a face drawn from both sides
+  const std::size_t first_cluster = first / kSize, clusters = (last - first + kSize - 1) / kSize;
+  std::vector<Vec3> axis(last - first), cluster_axis(clusters);
+  std::vector<std::uint8_t> never(last - first, 0), cluster_never(clusters, 0);  // a face drawn from both sides
+  auto in_range = [&](VertexIndex v) { return v >= first && v < last; };
   for (std::size_t t = 0; t < faces.size(); ++t) {
+    const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
     for (const VertexIndex v : faces[t]) {
-      axis[v] += Vec3(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
-      if (t >= culled_faces) never[v] = 1;
+      if (!in_range(v)) continue;
+      axis[v - first] += n;
+      cluster_axis[v / kSize - first_cluster] += n;
+      if (t >= culled_faces) never[v - first] = cluster_never[v / kSize - first_cluster] = 1;
     }
   }
   for (Vec3& a : axis) {
     const double length = norm(a);
     if (length > 0) a = a / length;
   }
-  std::vector<double> min_cos(vertices, 2.0);  // 2: no face with a normal (never facing)
-  for (std::size_t t = 0; t < faces.size(); ++t) {
-    const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
-    if (squared_norm(n) == 0) continue;
-    for (const VertexIndex v : faces[t]) min_cos[v] = std::min(min_cos[v], dot(axis[v], n));
-  }
-  std::vector<VertexCone> vertex_cones(vertices);
-  auto pack = [](double x) { return static_cast<std::int8_t>(std::lround(std::clamp(x, -1.0, 1.0) * 127)); };
-  for (std::size_t v = 0; v < vertices; ++v) {
-    if (never[v] != 0) continue;
-    if (min_cos[v] > 1.5) {  // only degenerate faces: always turned away
-      vertex_cones[v].packed = {0, 0, 0, 1};
-      continue;
-    }
-    if (min_cos[v] <= 0.01) continue;  // a cone of ~90° or more
-    // Margins as for clusters, plus the axis's rounding to 1/127: < 0.014 on the dot product.
-    const double cutoff = -std::sqrt(1 - min_cos[v] * min_cos[v]) - 0.01 - 0.014;
-    vertex_cones[v].packed = {pack(axis[v].x), pack(axis[v].y), pack(axis[v].z),
-                              static_cast<std::int8_t>(std::max(-128.0, std::floor(cutoff * 127)))};
-  }
-  return vertex_cones;
-}
-
-// Per run of kClusterSize consecutive vertices: a cone around the normals of every face that
-// uses one of them (vertices are in order of first use by spatially ordered faces, so a run
-// is a small patch). Never set when one of those faces is drawn from both sides.
-std::vector<NormalCone> vertex_cluster_cones(const RenderScene& scene,
-                                             const std::vector<std::array<float, 3>>& unit_normals) {
-  constexpr std::size_t kSize = RenderScene::kClusterSize;
-  const std::size_t clusters = (scene.positions.size() + kSize - 1) / kSize;
-  std::vector<Vec3> sum(clusters);
-  std::vector<std::uint8_t> never(clusters, 0);
-  for (std::size_t t = 0; t < scene.faces.size(); ++t) {
-    const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
-    for (const VertexIndex v : scene.faces[t]) {
-      sum[v / kSize] += n;
-      if (t >= scene.culled_faces) never[v / kSize] = 1;
-    }
-  }
-  std::vector<double> min_cos(clusters, 1.0);
-  for (Vec3& a : sum) {
+  for (Vec3& a : cluster_axis) {
     const double length = norm(a);
     a = length > 0 ? a / length : Vec3{};
   }
-  for (std::size_t t = 0; t < scene.faces.size(); ++t) {
+  std::vector<double> min_cos(last - first, 2.0);  // 2: no face with a normal (never facing)
+  std::vector<double> cluster_min_cos(clusters, 1.0);
+  for (std::size_t t = 0; t < faces.size(); ++t) {
     const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
     if (squared_norm(n) == 0) continue;
-    for (const VertexIndex v : scene.faces[t]) min_cos[v / kSize] = std::min(min_cos[v / kSize], dot(sum[v / kSize], n));
+    for (const VertexIndex v : faces[t]) {
+      if (!in_range(v)) continue;
+      double& m = min_cos[v - first];
+      m = std::min(m, dot(axis[v - first], n));
+      double& c = cluster_min_cos[v / kSize - first_cluster];
+      c = std::min(c, dot(cluster_axis[v / kSize - first_cluster], n));
+    }
   }
-  std::vector<NormalCone> cones(clusters);
+  auto pack = [](double x) { return static_cast<std::int8_t>(std::lround(std::clamp(x, -1.0, 1.0) * 127)); };
+  for (std::size_t i = 0; i < last - first; ++i) {
+    if (never[i] != 0) continue;
+    if (min_cos[i] > 1.5) {  // only degenerate faces: always turned away
+      vertex_cones[first + i].packed = {0, 0, 0, 1};
+      continue;
+    }
+    if (min_cos[i] <= 0.01) continue;  // a cone of ~90° or more
+    // Margins as for clusters, plus the axis's rounding to 1/127: < 0.014 on the dot product.
+    const double cutoff = -std::sqrt(1 - min_cos[i] * min_cos[i]) - 0.01 - 0.014;
+    vertex_cones[first + i].packed = {pack(axis[i].x), pack(axis[i].y), pack(axis[i].z),
+                                      static_cast<std::int8_t>(std::max(-128.0, std::floor(cutoff * 127)))};
+  }
+  // A run of vertices: a cone around the normals of every face that uses one of them
+  // (vertices are in order of first use by spatially ordered faces, so a run is a small
+  // patch). Never set when one of those faces is drawn from both sides.
   for (std::size_t c = 0; c < clusters; ++c) {
-    if (never[c] == 0 && squared_norm(sum[c]) > 0) cones[c] = cone_around(sum[c], min_cos[c]);
+    if (cluster_never[c] == 0 && squared_norm(cluster_axis[c]) > 0)
+      cluster_cones[first_cluster + c] = cone_around(cluster_axis[c], cluster_min_cos[c]);
   }
-  return cones;
 }
 
 }  // namespace
 
-void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals) {
+void RenderScene::compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals, unsigned threads) {
   clusters.assign((faces.size() + kClusterSize - 1) / kClusterSize, NormalCone{});
-  for (std::size_t c = 0; c < clusters.size(); ++c) {
-    const std::size_t first = c * kClusterSize, last = std::min(faces.size(), first + kClusterSize);
-    if (last > culled_faces) continue;  // drawn from both sides: never all turned away
-    Vec3 sum;
-    for (std::size_t t = first; t < last; ++t) sum += Vec3(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
-    const double length = norm(sum);
-    if (length == 0) continue;
-    const Vec3 axis = sum / length;
-    double min_cos = 1;
-    for (std::size_t t = first; t < last; ++t) {
-      const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
-      if (squared_norm(n) > 0) min_cos = std::min(min_cos, dot(axis, n));
+  const unsigned workers = worker_count(threads, faces.size() / (1 << 16) + 1);
+  parallel_ranges(clusters.size(), 1 << 10, workers, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) {
+      const std::size_t first = c * kClusterSize, last = std::min(faces.size(), first + kClusterSize);
+      if (last > culled_faces) continue;  // drawn from both sides: never all turned away
+      Vec3 sum;
+      for (std::size_t t = first; t < last; ++t) sum += Vec3(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+      const double length = norm(sum);
+      if (length == 0) continue;
+      const Vec3 axis = sum / length;
+      double min_cos = 1;
+      for (std::size_t t = first; t < last; ++t) {
+        const Vec3 n(unit_normals[t][0], unit_normals[t][1], unit_normals[t][2]);
+        if (squared_norm(n) > 0) min_cos = std::min(min_cos, dot(axis, n));
+      }
+      clusters[c] = cone_around(axis, min_cos);
     }
-    clusters[c] = cone_around(axis, min_cos);
-  }
-  vertex_cones = vertex_normal_cones(*this, unit_normals);
-  vertex_clusters = vertex_cluster_cones(*this, unit_normals);
+  });
+  // One range of vertices per worker (whole runs of kClusterSize), each scanning every face.
+  vertex_cones.assign(positions.size(), VertexCone{});
+  vertex_clusters.assign((positions.size() + kClusterSize - 1) / kClusterSize, NormalCone{});
+  const std::size_t runs = vertex_clusters.size(), runs_per_range = (runs + workers - 1) / std::max(1u, workers);
+  parallel_ranges(runs, std::max<std::size_t>(runs_per_range, 1), workers, [&](std::size_t begin, std::size_t end) {
+    vertex_range_cones(*this, unit_normals, begin * kClusterSize, std::min(positions.size(), end * kClusterSize),
+                       vertex_cones, vertex_clusters);
+  });
 }
 
 OrthoView OrthoView::looking_from(const Vec3& direction, double radius, int resolution) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/content_hash.h"
@@ -15,6 +16,7 @@
 #include "visimp/core/errors.h"
 #include "visimp/core/mesh_stats.h"
 #include "visimp/core/orientation.h"
+#include "visimp/core/parallel.h"
 #include "visimp/core/union_find.h"
 #include "tally_consumer.h"
 
@@ -22,6 +24,17 @@ namespace visimp {
 namespace {
 
 std::uint64_t hash_cameras(const CameraSet& cameras) { return hash_directions(cameras.directions); }
+
+// Per-face loops run over ranges of this many faces (or vertices) on the job's threads.
+constexpr std::size_t kFaceRange = 1 << 14;
+
+// `body(i)` for i in [0, n), ranges in parallel: bodies write only item i's outputs.
+template <typename Body>
+void for_face_ranges(std::size_t n, unsigned workers, const Body& body) {
+  parallel_ranges(n, kFaceRange, workers, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) body(i);
+  });
+}
 
 std::array<float, 3> to_float(const Vec3& v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
@@ -82,14 +95,19 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   check_options(options);
   check_render_options({resolution, 0});
   const std::size_t input_faces = mesh.num_faces();
+  const unsigned workers = worker_count(options.threads, input_faces / kFaceRange + 1);
+  // The hash (byte-serial FNV, ~0.6 s at 14M faces) runs beside the other stages; the future
+  // waits for it even when a stage throws.
+  std::future<std::uint64_t> hash =
+      std::async(workers > 1 ? std::launch::async : std::launch::deferred, [&mesh] { return hash_mesh(mesh); });
   stats_.input_faces = input_faces;
   stats_.resolution = resolution;
   // Once per face (the winding and finish() ask again).
   input_degenerate_.resize(input_faces);
-  for (std::size_t f = 0; f < input_faces; ++f) {
+  for_face_ranges(input_faces, workers, [&](std::size_t f) {
     input_degenerate_[f] = is_degenerate(mesh, mesh.faces[f]) ? 1 : 0;
-    stats_.degenerate_faces += input_degenerate_[f];
-  }
+  });
+  stats_.degenerate_faces = static_cast<std::size_t>(std::count(input_degenerate_.begin(), input_degenerate_.end(), 1));
 
   // Canonical winding (core/orientation.h): the faces rendered do not depend on the input's.
   input_reversed_.assign(input_faces, 0);
@@ -97,16 +115,16 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   if (options.trust_winding) {
     std::fill(input_one_sided_.begin(), input_one_sided_.end(), back_faces_always_hidden(mesh) ? 1 : 0);
   } else {
-    const OrientationPatches patches = orientation_patches(mesh);
-    for (std::size_t f = 0; f < input_faces; ++f) {
+    const OrientationPatches patches = orientation_patches(mesh, workers);
+    for_face_ranges(input_faces, workers, [&](std::size_t f) {
       input_reversed_[f] = patches.reversed[f];
       input_one_sided_[f] = patches.closed[patches.patch_of_face[f]] && input_degenerate_[f] == 0 ? 1 : 0;
-    }
+    });
   }
   auto wound_face = [&](std::size_t f) {
     return options.trust_winding ? mesh.faces[f] : canonical_face(mesh.faces[f], input_reversed_[f] != 0);
   };
-  for (std::size_t f = 0; f < input_faces; ++f) stats_.one_sided_faces += input_one_sided_[f];
+  stats_.one_sided_faces = static_cast<std::size_t>(std::count(input_one_sided_.begin(), input_one_sided_.end(), 1));
   stats_.two_sided_faces = input_faces - stats_.one_sided_faces;
 
   stats_.seconds_orient = seconds_since(start);
@@ -131,31 +149,48 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
   const auto scene_start = std::chrono::steady_clock::now();
   // The scene holds the faces in spatial order, one-sided ones first (they may be culled),
   // and the vertices in order of first use.
-  scene_order_ = spatial_face_order(rendered_mesh());
-  std::stable_partition(scene_order_.begin(), scene_order_.end(),
-                        [&](std::uint32_t r) { return input_one_sided_[parent_of(r)] != 0; });
+  scene_order_ = spatial_face_order(rendered_mesh(), workers);
+  if (stats_.one_sided_faces != 0 && stats_.two_sided_faces != 0) {  // else every face is on the same side
+    std::stable_partition(scene_order_.begin(), scene_order_.end(),
+                          [&](std::uint32_t r) { return input_one_sided_[parent_of(r)] != 0; });
+  }
+  one_sided_scene_faces_ = stats_.two_sided_faces == 0 ? faces_rendered : 0;
+  if (stats_.one_sided_faces != 0 && stats_.two_sided_faces != 0) {
+    one_sided_scene_faces_ = static_cast<std::size_t>(std::partition_point(scene_order_.begin(), scene_order_.end(),
+        [&](std::uint32_t r) { return input_one_sided_[parent_of(r)] != 0; }) - scene_order_.begin());
+  }
   const Vec3 center = bounding_box(rendered_mesh()).center();
   scene_.radius = radius;
   scene_.faces.resize(faces_rendered);
   unit_normals_.resize(faces_rendered);
-  one_sided_scene_faces_ = 0;
+  // Faces and normals per face in parallel (input vertex numbers for now), then the vertices
+  // numbered in order of first use: the one serial pass.
+  for_face_ranges(faces_rendered, workers, [&](std::size_t t) {
+    const Face f = rendered_face(scene_order_[t]);
+    const bool degenerate = is_degenerate(positions, f);
+    const Vec3 n = cross(positions[f[1]] - positions[f[0]], positions[f[2]] - positions[f[0]]);
+    unit_normals_[t] = degenerate ? std::array<float, 3>{0, 0, 0} : to_float(n / norm(n));
+    scene_.faces[t] = f;
+  });
   constexpr VertexIndex kUnused = 0xffffffffu;
   std::vector<VertexIndex> scene_vertex(positions.size(), kUnused);
-  for (std::size_t t = 0; t < scene_order_.size(); ++t) {
-    const Face f = rendered_face(scene_order_[t]);
-    one_sided_scene_faces_ += input_one_sided_[parent_of(scene_order_[t])];
-    const Vec3 n = cross(positions[f[1]] - positions[f[0]], positions[f[2]] - positions[f[0]]);
-    const bool degenerate = is_degenerate(positions, f);
-    unit_normals_[t] = degenerate ? std::array<float, 3>{0, 0, 0} : to_float(n / norm(n));
-    for (int k = 0; k < 3; ++k) {
-      VertexIndex& v = scene_vertex[f[k]];
+  std::vector<VertexIndex> source_vertex;  // scene vertex → rendered mesh's
+  source_vertex.reserve(positions.size());
+  for (Face& face : scene_.faces) {
+    for (VertexIndex& corner : face) {
+      VertexIndex& v = scene_vertex[corner];
       if (v == kUnused) {
-        v = static_cast<VertexIndex>(scene_.positions.size());
-        scene_.positions.push_back(to_float(positions[f[k]] - center));
+        v = static_cast<VertexIndex>(source_vertex.size());
+        source_vertex.push_back(corner);
       }
-      scene_.faces[t][k] = v;
+      corner = v;
     }
   }
+  std::vector<VertexIndex>().swap(scene_vertex);
+  scene_.positions.resize(source_vertex.size());
+  for_face_ranges(source_vertex.size(), workers,
+                  [&](std::size_t v) { scene_.positions[v] = to_float(positions[source_vertex[v]] - center); });
+  std::vector<VertexIndex>().swap(source_vertex);
   scene_.culled_faces = one_sided_scene_faces_;
   stats_.back_faces_culled = scene_.culled_faces == faces_rendered && faces_rendered > 0;
   // Trusting the winding, every face is tallied from its front only (culled or not).
@@ -164,8 +199,8 @@ VisibilityJob::VisibilityJob(const Mesh& mesh, int resolution, const VisibilityO
     stats_.one_sided_faces = input_faces;
     stats_.two_sided_faces = 0;
   }
-  scene_.compute_normal_cones(unit_normals_);
-  mesh_hash_ = hash_mesh(mesh);
+  scene_.compute_normal_cones(unit_normals_, workers);
+  mesh_hash_ = hash.get();
   stats_.seconds_scene = seconds_since(scene_start);
   stats_.seconds_prepare = seconds_since(start);
 }
@@ -251,7 +286,9 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
     weighted[side][parent] += static_cast<float>(w * static_cast<double>(seen) / static_cast<double>(total));
     weight[side][parent] += static_cast<float>(w);
   };
-  for (std::size_t t = 0; t < scene_order_.size(); ++t) {
+  const unsigned workers = worker_count(options_.threads, input_faces / kFaceRange + 1);
+  // Unrefined, each scene face is its own input face's only part: no two write the same sums.
+  for_face_ranges(scene_order_.size(), refined_ ? 1 : workers, [&](std::size_t t) {
     const std::size_t r = scene_order_[t];
     const std::size_t parent = refined_ ? refined_->input_face[r] : r;
     const double area = norm(face_normal_unnormalized(rendered, rendered.faces[r]));
@@ -260,10 +297,10 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
       add_side(1, parent, area, tally.seen_back[t - one_sided_scene_faces_],
                tally.total_back[t - one_sided_scene_faces_]);
     }
-  }
+  });
   out.face_front.assign(input_faces, 0.0f);
   out.face_back.assign(input_faces, 0.0f);
-  for (std::size_t f = 0; f < input_faces; ++f) {
+  for_face_ranges(input_faces, workers, [&](std::size_t f) {
     float side[2] = {0.0f, 0.0f};
     for (int k = 0; k < (back_sums > 0 ? 2 : 1); ++k) {
       if (weight[k][f] > 0) side[k] = std::clamp(weighted[k][f] / weight[k][f], 0.0f, 1.0f);
@@ -271,50 +308,79 @@ Visibility VisibilityJob::finish(const VisibilityTally& tally) const {
     const bool reversed = input_reversed_[f] != 0;
     out.face_front[f] = side[reversed ? 1 : 0];
     out.face_back[f] = side[reversed ? 0 : 1];
-    if (out.face_back[f] > out.face_front[f]) ++out.stats.seen_from_behind;
-  }
+  });
+  for (std::size_t f = 0; f < input_faces; ++f) out.stats.seen_from_behind += out.face_back[f] > out.face_front[f];
   out.face.assign(input_faces, 0.0f);
-  std::vector<bool> defined(input_faces, false);
-  std::vector<double> vertex_weighted(input_.num_vertices(), 0.0), vertex_weight(input_.num_vertices(), 0.0);
-  for (std::size_t f = 0; f < input_faces; ++f) {
+  std::vector<std::uint8_t> defined(input_faces, 0);
+  for_face_ranges(input_faces, workers, [&](std::size_t f) {
     const bool faced = weight[0][f] > 0 || (back_sums > 0 && weight[1][f] > 0);
-    if (!faced || input_degenerate_[f] != 0) continue;
-    defined[f] = true;
+    if (!faced || input_degenerate_[f] != 0) return;
+    defined[f] = 1;
     out.face[f] = std::max(out.face_front[f], out.face_back[f]);  // the better-seen side
-    const double area = norm(face_normal_unnormalized(input_, input_.faces[f]));
-    for (VertexIndex v : input_.faces[f]) {
-      vertex_weighted[v] += area * out.face[f];
-      vertex_weight[v] += area;
+  });
+  // Vertex V: area-weighted over the defined faces around it. One range of vertices per
+  // worker, each scanning every face and summing only its own corners, in face order: the
+  // same sums for any thread count.
+  const std::size_t nv = input_.num_vertices();
+  std::vector<double> vertex_weighted(nv, 0.0), vertex_weight(nv, 0.0);
+  const std::size_t per_worker = (nv + workers - 1) / workers;
+  parallel_ranges(nv, std::max<std::size_t>(per_worker, 1), workers, [&](std::size_t first, std::size_t last) {
+    for (std::size_t f = 0; f < input_faces; ++f) {
+      if (defined[f] == 0) continue;
+      const Face& face = input_.faces[f];
+      if (std::none_of(face.begin(), face.end(), [&](VertexIndex v) { return v >= first && v < last; })) continue;
+      const double area = norm(face_normal_unnormalized(input_, face));
+      for (VertexIndex v : face) {
+        if (v < first || v >= last) continue;
+        vertex_weighted[v] += area * out.face[f];
+        vertex_weight[v] += area;
+      }
     }
-  }
-  out.vertex.assign(input_.num_vertices(), 0.0f);
-  for (std::size_t v = 0; v < out.vertex.size(); ++v) {
+  });
+  out.vertex.assign(nv, 0.0f);
+  for_face_ranges(nv, workers, [&](std::size_t v) {
     if (vertex_weight[v] > 0)
       out.vertex[v] = static_cast<float>(std::clamp(vertex_weighted[v] / vertex_weight[v], 0.0, 1.0));
-  }
-  // Faces without a value of their own take the mean of their vertices.
-  double area_sum = 0, visible_sum = 0, hidden_area = 0;
-  for (std::size_t f = 0; f < input_faces; ++f) {
-    const Face& face = input_.faces[f];
-    if (!defined[f]) {
-      if (input_degenerate_[f] == 0) ++out.stats.unfaced_faces;
-      double sum = 0;
-      int count = 0;
-      for (VertexIndex v : face) {
-        if (vertex_weight[v] > 0) {
-          sum += out.vertex[v];
-          ++count;
+  });
+  // Faces without a value of their own take the mean of their vertices. V(M) and the hidden
+  // share: sums per fixed range of faces, added in range order (any thread count, same bits).
+  struct RangeSums {
+    double area = 0, visible = 0, hidden_area = 0;
+    std::size_t unfaced = 0, hidden = 0;
+  };
+  std::vector<RangeSums> range_sums((input_faces + kFaceRange - 1) / kFaceRange);
+  parallel_ranges(input_faces, kFaceRange, workers, [&](std::size_t begin, std::size_t end) {
+    RangeSums& sums = range_sums[begin / kFaceRange];
+    for (std::size_t f = begin; f < end; ++f) {
+      const Face& face = input_.faces[f];
+      if (defined[f] == 0) {
+        if (input_degenerate_[f] == 0) ++sums.unfaced;
+        double sum = 0;
+        int count = 0;
+        for (VertexIndex v : face) {
+          if (vertex_weight[v] > 0) {
+            sum += out.vertex[v];
+            ++count;
+          }
         }
+        out.face[f] = count > 0 ? static_cast<float>(sum / count) : 0.0f;
       }
-      out.face[f] = count > 0 ? static_cast<float>(sum / count) : 0.0f;
+      const double area = norm(face_normal_unnormalized(input_, face));
+      sums.area += area;
+      sums.visible += area * out.face[f];
+      if (out.face[f] == 0.0f) {
+        ++sums.hidden;
+        sums.hidden_area += area;
+      }
     }
-    const double area = norm(face_normal_unnormalized(input_, face));
-    area_sum += area;
-    visible_sum += area * out.face[f];
-    if (out.face[f] == 0.0f) {
-      ++out.stats.hidden_faces;
-      hidden_area += area;
-    }
+  });
+  double area_sum = 0, visible_sum = 0, hidden_area = 0;
+  for (const RangeSums& sums : range_sums) {
+    area_sum += sums.area;
+    visible_sum += sums.visible;
+    hidden_area += sums.hidden_area;
+    out.stats.unfaced_faces += sums.unfaced;
+    out.stats.hidden_faces += sums.hidden;
   }
   out.stats.hidden_area_fraction = area_sum > 0 ? hidden_area / area_sum : 0.0;
   out.mesh = area_sum > 0 ? visible_sum / area_sum : 0.0;

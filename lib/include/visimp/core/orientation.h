@@ -26,9 +26,10 @@ struct OrientationPatches {
   std::size_t patches() const { return closed.size(); }
 };
 
-/// Linear time after one sort of the edges. Faces with a repeated index join no patch
-/// (each is a patch of its own, never closed).
-OrientationPatches orientation_patches(const Mesh& mesh);
+/// Linear time (edges bucketed by their lower vertex). Faces with a repeated index join no
+/// patch (each is a patch of its own, never closed). `threads` (0 = one per hardware thread)
+/// share the edge matching; the result does not depend on it.
+OrientationPatches orientation_patches(const Mesh& mesh, unsigned threads = 0);
 
 /// The face wound as `reversed` says, rotated so its smallest vertex index comes first:
 /// one canonical form per triangle and side, whatever the input's rotation.

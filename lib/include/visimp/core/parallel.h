@@ -19,4 +19,10 @@ void parallel_for(std::size_t first, std::size_t last, unsigned workers,
                   const std::function<void(unsigned worker, std::size_t item)>& job,
                   const std::function<void(double done)>& progress = {});
 
+/// Runs `job(begin, end)` over [0, n) cut into ranges of `chunk` items, on `workers` threads:
+/// for loops whose body is too cheap for a call per item. The ranges do not depend on
+/// `workers`, so a job that writes per-item outputs gives the same bytes for any thread count.
+void parallel_ranges(std::size_t n, std::size_t chunk, unsigned workers,
+                     const std::function<void(std::size_t begin, std::size_t end)>& job);
+
 }  // namespace visimp

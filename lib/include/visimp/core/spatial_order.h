@@ -14,8 +14,9 @@ namespace visimp {
 std::uint32_t morton_code(const Vec3& unit);
 
 /// The faces of `mesh` sorted by the Morton code of their centroids in its bounding box
-/// (ties by index, so the order is deterministic).
-std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh);
+/// (ties by index, so the order is deterministic). `threads` (0 = one per hardware thread)
+/// share the codes; the order does not depend on it.
+std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh, unsigned threads = 0);
 
 /// The vertices of `mesh` sorted by the Morton code of their positions (ties by index).
 std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh);

@@ -77,8 +77,9 @@ struct RenderScene {
 
   /// Fills `clusters`, `vertex_cones` and `vertex_clusters` from the given unit face normals (zero for
   /// degenerate faces, which never face a camera). A cluster or vertex with a face at or
-  /// past culled_faces is never skipped.
-  void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals);
+  /// past culled_faces is never skipped. `threads` (0 = one per hardware thread) share the
+  /// work; the cones do not depend on it.
+  void compute_normal_cones(const std::vector<std::array<float, 3>>& unit_normals, unsigned threads = 0);
 
   static RenderScene from_mesh(const Mesh& mesh, bool cull_back_faces);
   /// The same in a given frame (to render several meshes from identical views).

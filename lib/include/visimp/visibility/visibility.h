@@ -55,6 +55,9 @@ struct VisibilityOptions {
   bool fractional = false;
   /// Refinement budget; more faces than this is an error, not a slow run.
   std::size_t max_refined_faces = 30'000'000;
+  /// Threads that prepare the mesh and finish V (0 = one per hardware thread; the renderer
+  /// has its own). V does not depend on it.
+  unsigned threads = 0;
 };
 
 std::vector<OptionSpec> describe_options(VisibilityOptions& options);
