@@ -224,13 +224,15 @@ TEST(Simplify, QuadricWeightsTradeRmsOnFlatFacesForHausdorffOnDenseDetail) {
   const Mesh esp = read_mesh(test::bundled_mesh("kicad_esp_wroom02.ply"));
   EXPECT_LT(distance(esp, QuadricWeights::area).rms, distance(esp, QuadricWeights::uniform).rms / 3);
   const Mesh teapot = read_mesh(test::bundled_mesh("teapot.ply"));
-  EXPECT_LT(distance(teapot, QuadricWeights::uniform).hausdorff, 0.85 * distance(teapot, QuadricWeights::area).hausdorff);
+  EXPECT_LT(distance(teapot, QuadricWeights::uniform).hausdorff,
+            0.85 * distance(teapot, QuadricWeights::area).hausdorff);
 }
 
 TEST(Simplify, QuadricWeightsFlagTakesOnlyItsNames) {
   SimplifyOptions o;
   std::vector<OptionSpec> specs = describe_options(o);
-  const auto spec = std::find_if(specs.begin(), specs.end(), [](const OptionSpec& s) { return s.flag == "--quadric-weights"; });
+  const auto spec =
+      std::find_if(specs.begin(), specs.end(), [](const OptionSpec& s) { return s.flag == "--quadric-weights"; });
   ASSERT_NE(spec, specs.end());
   EXPECT_EQ(spec->default_text, "area");
   EXPECT_NE(spec->help.find("area"), std::string::npos);
@@ -507,21 +509,38 @@ TEST(Simplify, ACollapseCostOrdersTheQueueAndWeightsFollowMerges) {
 // is in the input's: kept input vertices in increasing input index, faces in increasing input
 // face index (their quality travels with them), positions bit-exact where no collapse moved them.
 // simplify(Mesh&&) only saves memory: the same mesh, qualities and result as from a copy.
+// simplify(Mesh&&) drops the input's faces after set-up and, when every coordinate is a float
+// (the bunny's PLY), keeps the positions as floats: the same output either way, bit for bit,
+// including the vertices that kept their input position; also for coordinates that are not
+// floats (the bunny scaled by 1/3), which stay doubles.
 TEST(Simplify, GivingUpTheInputGivesTheSameResult) {
   Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
   for (std::size_t f = 0; f < bunny.num_faces(); ++f) bunny.face_quality.push_back(float(f % 5));
   for (std::size_t v = 0; v < bunny.num_vertices(); ++v) bunny.vertex_quality.push_back(float(v % 3));
+  Mesh third = bunny;
+  for (Vec3& p : third.positions) p = p / 3.0;
   SimplifyOptions o;
-  o.target_ratio = 0.1;
-  const Simplified kept = simplify(bunny, o);
-  Mesh given = bunny;
-  const Simplified moved = simplify(std::move(given), o);
-  EXPECT_EQ(moved.mesh.positions, kept.mesh.positions);
-  EXPECT_EQ(moved.mesh.faces, kept.mesh.faces);
-  EXPECT_EQ(moved.mesh.face_quality, kept.mesh.face_quality);
-  EXPECT_EQ(moved.mesh.vertex_quality, kept.mesh.vertex_quality);
-  EXPECT_EQ(moved.result.collapses, kept.result.collapses);
-  EXPECT_EQ(moved.result.faces_in, bunny.num_faces());
+  for (const Mesh* input : {&bunny, &third}) {
+    for (const double ratio : {0.1, 0.8}) {
+      o.target_ratio = ratio;
+      const Simplified kept = simplify(*input, o);
+      Mesh given = *input;
+      const Simplified moved = simplify(std::move(given), o);
+      EXPECT_EQ(moved.mesh.positions, kept.mesh.positions);
+      EXPECT_EQ(moved.mesh.faces, kept.mesh.faces);
+      EXPECT_EQ(moved.mesh.face_quality, kept.mesh.face_quality);
+      EXPECT_EQ(moved.mesh.vertex_quality, kept.mesh.vertex_quality);
+      EXPECT_EQ(moved.result.collapses, kept.result.collapses);
+      EXPECT_EQ(moved.result.faces_in, input->num_faces());
+      const std::size_t unmoved = static_cast<std::size_t>(
+          std::count_if(moved.mesh.positions.begin(), moved.mesh.positions.end(), [&](const Vec3& p) {
+            return std::find(input->positions.begin(), input->positions.end(), p) != input->positions.end();
+          }));
+      if (ratio > 0.5) {
+        EXPECT_GT(unmoved, moved.mesh.num_vertices() / 4) << "at 80% many vertices keep their input position";
+      }
+    }
+  }
   // Already at its target: the mesh itself comes back.
   o.target_ratio = 1.0;
   Mesh whole = bunny;
