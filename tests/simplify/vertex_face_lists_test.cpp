@@ -20,6 +20,11 @@ std::vector<std::uint32_t> sorted(VertexFaceLists::Range r) {
   return v;
 }
 
+std::vector<std::uint32_t> sorted_copy(std::vector<std::uint32_t> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
 TEST(VertexFaceLists, BuildListsEachFaceAtItsCornersInFaceOrderAndSkipsWhatIsAskedTo) {
   const std::vector<std::array<std::uint32_t, 3>> faces = {{0, 1, 2}, {0, 2, 3}, {1, 2, 3}, {3, 4, 0}};
   VertexFaceLists lists;
@@ -82,9 +87,10 @@ TEST(VertexFaceLists, RemovalsAndMergesMatchAPlainModelThroughManyPoolRewrites) 
   EXPECT_LT(lists.memory_bytes(), 4 * (kVertices * 12 + 3 * kFaces * 4));
 }
 
-TEST(VertexFaceLists, RegionsKeepEveryListInsideItsRegionAndMatchThePlainModel) {
-  // Faces within regions of 100 vertices; merges only within a region, as in simplify's
-  // parallel phase. A region's lists must never be written outside it.
+// Faces within regions of 100 vertices; merges only within a region, as in simplify's
+// parallel phase. A region's lists must never be written outside it. With a quarter's slack
+// the regions are spread in the pool itself (its reserve holds them), with half in a new one.
+void check_regions(double slack) {
   constexpr std::size_t kVertices = 1000, kRegion = 100, kFaces = 3000;
   std::mt19937 random(11);
   std::vector<std::array<std::uint32_t, 3>> faces(kFaces);
@@ -95,10 +101,13 @@ TEST(VertexFaceLists, RegionsKeepEveryListInsideItsRegionAndMatchThePlainModel) 
   }
   VertexFaceLists lists;
   lists.build(kVertices, faces, [](std::size_t) { return false; });
-  lists.split_into_regions(kRegion, 0.5);
+  const std::uint32_t* pool_before = lists[0].begin();
+  lists.split_into_regions(kRegion, slack);
+  EXPECT_EQ(lists[0].begin() == pool_before, slack < 0.3) << "spread in place only when the reserve holds it";
   std::vector<std::vector<std::uint32_t>> model(kVertices);
   for (std::uint32_t f = 0; f < kFaces; ++f)
     for (std::uint32_t v : faces[f]) model[v].push_back(f);
+  for (std::uint32_t v = 0; v < kVertices; ++v) ASSERT_EQ(sorted(lists[v]), sorted_copy(model[v])) << "vertex " << v;
   std::vector<std::uint8_t> alive(kFaces, 1);
   std::size_t merges = 0, refused = 0;
   for (int step = 0; step < 20000; ++step) {
@@ -140,6 +149,9 @@ TEST(VertexFaceLists, RegionsKeepEveryListInsideItsRegionAndMatchThePlainModel) 
     EXPECT_EQ(sorted(lists[v]), expected) << "vertex " << v;
   }
 }
+
+TEST(VertexFaceLists, RegionsSpreadInPlaceKeepEveryListInsideItsRegion) { check_regions(0.25); }
+TEST(VertexFaceLists, RegionsInANewPoolKeepEveryListInsideItsRegion) { check_regions(0.5); }
 
 }  // namespace
 }  // namespace visimp::detail

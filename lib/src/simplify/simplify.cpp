@@ -172,7 +172,9 @@ class CollapseEngine {
  public:
   // `phase_depth` > 0: set up the parallel phase of that rung (run_parallel_phase); `workers`
   // threads build the queue either way.
-  CollapseEngine(const Mesh& input, const SimplifyOptions& options, int phase_depth, unsigned workers)
+  // `owned`, when given, is `input` itself, given up by the caller (simplify(Mesh&&)).
+  CollapseEngine(const Mesh& input, const SimplifyOptions& options, int phase_depth, unsigned workers,
+                 Mesh* owned = nullptr)
       : input_(input),
         frame_(unit_frame(bounding_box(input))),
         cos_max_normal_change_(std::cos(options.max_normal_change_deg * M_PI / 180.0)),
@@ -214,6 +216,12 @@ class CollapseEngine {
     add_face_quadrics();
     serial_.last_vertex = static_cast<VertexIndex>(nv);
     phase_depth_ = phase_depth;
+    // From here on the engine reads only the input's positions and qualities: a given-up
+    // input shrinks before the queue is costed, the set-up's largest allocation.
+    if (owned != nullptr) {
+      std::vector<Face>().swap(owned->faces);
+      keep_input_positions_as_floats(*owned);
+    }
     push_initial_edges(phase_depth > 0, workers);
   }
 
@@ -281,12 +289,15 @@ class CollapseEngine {
         counted += face_alive_[f] && !((flags_[faces_[f][0]] | flags_[faces_[f][1]] | flags_[faces_[f][2]]) & kCut);
     }
     const std::size_t goal_removed = counted - static_cast<std::size_t>(rung.goal * double(counted));
-    vertex_faces_.split_into_regions(kPartitionVertices, 0.5);
+    vertex_faces_.split_into_regions(kPartitionVertices, 0.25);
     workers = worker_count(workers, lanes_.size());
     std::uint32_t threshold = first_threshold_;
     for (;;) {
       parallel_for(0, lanes_.size(), workers,
-                   [&](unsigned, std::size_t i) { run_partition(lanes_[i], threshold, max_error); });
+                   [&](unsigned, std::size_t i) {
+                     run_partition(lanes_[i], threshold, max_error);
+                     if (i % 16 == 15) give_back_freed_memory();
+                   });
       std::size_t removed = 0;
       std::uint32_t lowest_left = UINT32_MAX;  // the smallest key still queued
       for (Lane& lane : lanes_) {
@@ -1150,12 +1161,7 @@ Simplified simplify_one(const Mesh& input, Mesh* owned, const SimplifyOptions& o
     SimplifyStageSeconds& stage = out.result.stage_seconds;
     StageClock clock;
     const int phase_depth = parallel_phase_depth(input, options, out.result.target_faces);
-    CollapseEngine engine(input, options, phase_depth, options.threads);
-    // The engine reads only the input's positions and qualities from here on.
-    if (owned != nullptr) {
-      std::vector<Face>().swap(owned->faces);
-      engine.keep_input_positions_as_floats(*owned);
-    }
+    CollapseEngine engine(input, options, phase_depth, options.threads, owned);
     out.result.locked_vertices = engine.locked_vertices();
     out.result.dropped_faces = engine.dropped_repeated_index_faces();
     engine.set_observer(observer, out.result.target_faces);

@@ -41,7 +41,9 @@ class VertexFaceLists {
       s.offset = checked_offset(offset);
       offset += s.capacity;
     }
-    pool_.reserve(offset + offset / 4);  // room for lists that grow, before the first rewrite
+    // Room for lists that grow before the first rewrite, and for split_into_regions's gaps
+    // (a quarter, plus 8 a region of at least 64 vertices) without moving the pool.
+    pool_.reserve(offset + offset / 4 + vertex_count / 8 + 64);
     pool_.assign(offset, 0);
     for (std::size_t f = 0; f < faces.size(); ++f)
       if (!skip(f))
@@ -95,8 +97,9 @@ class VertexFaceLists {
     for (std::size_t v = 0; v < slots_.size(); ++v) live[v / vertices_per_region] += slots_[v].size;
     std::size_t total = 0;
     for (std::size_t n : live) total += n + static_cast<std::size_t>(slack * double(n)) + 8;
-    std::vector<std::uint32_t> packed(total);
     for (const Region& region : regions_) region_compactions_ += region.compactions;
+    if (spread_in_place(vertices_per_region, slack, live, total)) return;
+    std::vector<std::uint32_t> packed(total);
     regions_.assign(count, Region{});
     std::size_t at = 0;
     for (std::size_t r = 0; r < count; ++r) {
@@ -116,6 +119,43 @@ class VertexFaceLists {
     checked_offset(at);
     pool_.swap(packed);
     dead_ = 0;
+  }
+
+  /// split_into_regions without a second pool, when the lists are still as build() laid them
+  /// out (packed in vertex order) and the gaps fit the pool's capacity: every list moves up,
+  /// so moving them from the last down overwrites nothing unread. (A second pool was a
+  /// transient of 170 MB at 14M faces, the parallel phase's peak.)
+  bool spread_in_place(std::size_t vertices_per_region, double slack, const std::vector<std::size_t>& live,
+                       std::size_t total) {
+    if (!regions_.empty() || dead_ != 0 || total > pool_.capacity()) return false;
+    checked_offset(total);
+    std::size_t at = 0;
+    for (const Slot& s : slots_) {
+      if (s.offset != at || s.size != s.capacity) return false;
+      at += s.size;
+    }
+    const std::size_t count = live.size();
+    regions_.assign(count, Region{});
+    at = 0;
+    for (std::size_t r = 0; r < count; ++r) {
+      regions_[r].begin = at;
+      regions_[r].next = at + live[r];
+      at += live[r] + static_cast<std::size_t>(slack * double(live[r])) + 8;
+      regions_[r].end = at;
+    }
+    pool_.resize(total);  // within capacity: no reallocation
+    for (std::size_t r = count; r-- > 0;) {
+      std::size_t next = regions_[r].next;
+      const std::size_t first = r * vertices_per_region, last = std::min(slots_.size(), first + vertices_per_region);
+      for (std::size_t v = last; v-- > first;) {
+        Slot& s = slots_[v];
+        next -= s.size;
+        std::copy_backward(pool_.begin() + s.offset, pool_.begin() + s.offset + s.size, pool_.begin() + next + s.size);
+        s.offset = checked_offset(next);
+      }
+    }
+    dead_ = 0;
+    return true;
   }
 
   /// Back to one pool in vertex order (after the parallel phase).
