@@ -122,7 +122,7 @@ class VertexFaceLists {
   }
 
   /// split_into_regions without a second pool, when the lists are still as build() laid them
-  /// out (packed in vertex order) and the gaps fit the pool's capacity: every list moves up,
+  /// out (packed in vertex order) and the gaps fit the pool's capacity: every list moves up (or stays),
   /// so moving them from the last down overwrites nothing unread. (A second pool was a
   /// transient of 170 MB at 14M faces, the parallel phase's peak.)
   bool spread_in_place(std::size_t vertices_per_region, double slack, const std::vector<std::size_t>& live,
@@ -150,7 +150,8 @@ class VertexFaceLists {
       for (std::size_t v = last; v-- > first;) {
         Slot& s = slots_[v];
         next -= s.size;
-        std::copy_backward(pool_.begin() + s.offset, pool_.begin() + s.offset + s.size, pool_.begin() + next + s.size);
+        if (next != s.offset)  // region 0's lists stay where they are
+          std::copy_backward(pool_.begin() + s.offset, pool_.begin() + s.offset + s.size, pool_.begin() + next + s.size);
         s.offset = checked_offset(next);
       }
     }
