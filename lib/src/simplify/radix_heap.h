@@ -15,8 +15,9 @@
 
 namespace visimp::detail {
 
-/// T must have a `std::uint32_t key` member.
-template <class T>
+/// T must have a `std::uint32_t key` member; Container is the buckets' vector type (the
+/// engine's are huge-page backed once large: core/large_array.h).
+template <class T, class Container = std::vector<T>>
 class RadixHeap {
  public:
   bool empty() const { return size_ == 0; }
@@ -24,7 +25,7 @@ class RadixHeap {
 
   void push(T item) {
     if (item.key < last_) item.key = last_;
-    std::vector<T>& bucket = buckets_[bucket_of(item.key)];
+    Container& bucket = buckets_[bucket_of(item.key)];
     // Grown by half, not doubled: doubling left the buckets of a 14M-face run holding 1.85×
     // their entries (300 MB unused at the parallel phase's peak). Each entry is then copied
     // ~2 times over its life instead of ~1, sequentially (by a quarter: ~4, and 7% wall).
@@ -37,8 +38,8 @@ class RadixHeap {
   /// top bucket, which the first pop sorts out with every bucket sized exactly. (Pushed one by
   /// one, 21M initial edges of a 14M-face mesh grew vectors by doubling and then moved into
   /// buckets that doubled again: over a gigabyte at the first pop.)
-  void assign(std::vector<T>&& items) {
-    for (auto& bucket : buckets_) std::vector<T>().swap(bucket);
+  void assign(Container&& items) {
+    for (auto& bucket : buckets_) Container().swap(bucket);
     last_ = 0;
     size_ = items.size();
     buckets_.back() = std::move(items);
@@ -71,10 +72,10 @@ class RadixHeap {
   }
 
   /// Appends every item to `into` (bucket by bucket, in a fixed order) and empties the heap.
-  void take_all(std::vector<T>& into) {
+  void take_all(Container& into) {
     for (auto& bucket : buckets_) {
       into.insert(into.end(), bucket.begin(), bucket.end());
-      std::vector<T>().swap(bucket);
+      Container().swap(bucket);
     }
     size_ = 0;
     last_ = 0;
@@ -112,14 +113,14 @@ class RadixHeap {
     // give a large one's memory back instead of keeping capacity no one uses. Kept, the
     // emptied buckets' capacities added up to several times the live entries.
     if (buckets_[i].capacity() > kKeptCapacity)
-      std::vector<T>().swap(buckets_[i]);
+      Container().swap(buckets_[i]);
     else
       buckets_[i].clear();
   }
 
   static constexpr std::size_t kKeptCapacity = 4096;
 
-  std::array<std::vector<T>, 33> buckets_;
+  std::array<Container, 33> buckets_;
   std::uint32_t last_ = 0;
   std::size_t size_ = 0;
 };

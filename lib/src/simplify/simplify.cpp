@@ -22,6 +22,7 @@
 #include "visimp/core/union_find.h"
 #include "visimp/core/validate.h"
 #include "visimp/simplify/quadric.h"
+#include "../core/large_array.h"
 #include "radix_heap.h"
 #include "vertex_face_lists.h"
 
@@ -84,6 +85,7 @@ struct HeapEntry {
   VertexIndex v0, v1;
   std::uint32_t time;
 };
+using Entries = detail::LargeArray<HeapEntry>;  // queues: huge-page backed when large
 
 /* Collapse profile of the edge (v0, v1); v1 is merged into v0 at `placement`.
 
@@ -114,7 +116,7 @@ struct MovedFace {
 // the parallel phase each partition has its own, and a lane changes only its own vertices'
 // state, so lanes run on different threads at once.
 struct Lane {
-  detail::RadixHeap<HeapEntry> heap;
+  detail::RadixHeap<HeapEntry, Entries> heap;
   std::uint32_t clock = 0;    // the lane's vertices' modified_ and its entries' times
   std::uint32_t mark_id = 0;  // the last mark given to one of its vertices
   VertexIndex first_vertex = 0, last_vertex = 0;
@@ -124,7 +126,7 @@ struct Lane {
   // Partitions only.
   bool partition = false;
   bool done = false;                   // reached its face budget
-  std::vector<HeapEntry> leftover;     // edges for the serial phase: crossing, or not deep
+  Entries leftover;     // edges for the serial phase: crossing, or not deep
   std::size_t faces_at_start = 0, faces_removed = 0, face_budget = 0;
   SimplifyResult tally;                // its collapses, refusals and largest error
 };
@@ -154,9 +156,14 @@ constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
 // Hands the pages of freed blocks back to the system. The phase's queues grow and shrink on
 // every worker's malloc arena, and glibc keeps what they free: at 14M faces that was 800 MB of
 // resident memory no one used (peak 202 -> 186 B per input face with this after every round).
+// Pages given back are faulted in again when the queues regrow, so a trim pays only when much
+// is held: below kTrimFloor it is skipped. On the dragon (free 4-52 MB at each call) the trims
+// cost 14% of the run in page faults; at 14M faces (median 300 MB held) nearly all still run.
+constexpr std::size_t kTrimFloor = std::size_t(16) << 20;
+
 void give_back_freed_memory() {
 #ifdef __GLIBC__
-  malloc_trim(0);
+  if (mallinfo2().fordblks >= kTrimFloor) malloc_trim(0);
 #endif
 }
 
@@ -202,7 +209,7 @@ class CollapseEngine {
     flags_.assign(nv, kAlive);
     modified_.assign(nv, 0);
     mark_.assign(nv, 0);
-    origin_ = input_vertex_;
+    origin_.assign(input_vertex_.begin(), input_vertex_.end());
     weighted_ = options.method == SimplifyMethod::vg;
     custom_cost_ = options.collapse_cost;
     if (custom_cost_ != nullptr && !options.vertex_weights.empty()) {
@@ -543,8 +550,8 @@ class CollapseEngine {
 
   // Calls fn once for every vertex that shares a face with v, marking v and them with `id`
   // in `mark` (a mark newer than any it holds).
-  template <class Fn>
-  void visit_neighbors(std::vector<std::uint32_t>& mark, std::uint32_t id, VertexIndex v, Fn&& fn) const {
+  template <class Marks, class Fn>
+  void visit_neighbors(Marks& mark, std::uint32_t id, VertexIndex v, Fn&& fn) const {
     mark[v] = id;
     for (std::uint32_t f : vertex_faces_[v])
       for (VertexIndex w : faces_[f])
@@ -593,8 +600,8 @@ class CollapseEngine {
           if (w > v && !both_locked(v, w)) ++(partitioned && chunk_of(w) != c ? crossing[c] : inner[c]);
         });
     });
-    std::vector<HeapEntry> serial_edges;
-    std::vector<std::vector<HeapEntry>> partition_edges;
+    Entries serial_edges;
+    std::vector<Entries> partition_edges;
     std::vector<std::size_t> offset(chunks + 1, 0);
     if (partitioned) {
       lanes_.resize(chunks);
@@ -961,14 +968,14 @@ class CollapseEngine {
   void join_partitions(SimplifyResult& result) {
     std::size_t entries = 0;
     for (const Lane& lane : lanes_) entries += lane.heap.size() + lane.leftover.size();
-    std::vector<HeapEntry> all;
+    Entries all;
     all.reserve(entries);
     auto stale = [this](const HeapEntry& e) { return is_stale(e); };
     for (Lane& lane : lanes_) {
       const std::size_t from = all.size();
       lane.heap.take_all(all);
       all.insert(all.end(), lane.leftover.begin(), lane.leftover.end());
-      std::vector<HeapEntry>().swap(lane.leftover);
+      Entries().swap(lane.leftover);
       all.erase(std::remove_if(all.begin() + static_cast<std::ptrdiff_t>(from), all.end(), stale), all.end());
       serial_.clock = std::max(serial_.clock, lane.clock);
       serial_.mark_id = std::max(serial_.mark_id, lane.mark_id);
@@ -1015,32 +1022,33 @@ class CollapseEngine {
   int phase_depth_ = 0;          // the parallel phase's rung (0: none)
   bool area_weights_ = false;  // a face's plane weighs its area, not 1
   double boundary_weight_ = 0;
-  std::vector<Vec3> positions_;         // unit frame
-  std::vector<Face> faces_;
-  std::vector<std::uint8_t> face_alive_;
+  // The per-vertex and per-face arrays are huge-page backed when large (core/large_array.h).
+  detail::LargeArray<Vec3> positions_;  // unit frame
+  detail::LargeArray<Face> faces_;
+  detail::LargeArray<std::uint8_t> face_alive_;
   std::size_t faces_alive_ = 0;
   std::size_t dropped_repeated_index_faces_ = 0;
   detail::VertexFaceLists vertex_faces_;
   // Engine index -> input index (see reorder_spatially).
   std::vector<VertexIndex> input_vertex_;
-  std::vector<std::uint32_t> input_face_;
+  detail::LargeArray<std::uint32_t> input_face_;
   // Per vertex the plain quadric Q (places the vertex, gives the error) and, under VG, right
   // after it the cost quadric Q_v = Σ V(t)^P K_t (orders the queue). Interleaved, both come in
   // with one memory access: a separate array doubled the cache misses (VG +15–40% over QB).
   bool weighted_ = false;
   const CollapseCost* custom_cost_ = nullptr;  // orders the queue instead of the quadrics when set
   std::vector<float> vertex_weights_;          // with custom_cost_: per vertex, merged by max
-  std::vector<Quadric> quadrics_;
+  detail::LargeArray<Quadric> quadrics_;
   Quadric& plain_quadric(VertexIndex v) { return quadrics_[weighted_ ? 2 * std::size_t(v) : v]; }
   const Quadric& plain_quadric(VertexIndex v) const { return quadrics_[weighted_ ? 2 * std::size_t(v) : v]; }
   Quadric& cost_quadric(VertexIndex v) { return quadrics_[2 * std::size_t(v) + 1]; }
   const Quadric& cost_quadric(VertexIndex v) const { return quadrics_[2 * std::size_t(v) + 1]; }
   std::vector<double> face_weight_;  // VG only: V(t)^P per input face (P = 2 by default)
-  std::vector<std::uint8_t> flags_;
-  std::vector<std::uint32_t> modified_;  // clock of the vertex's last change
+  detail::LargeArray<std::uint8_t> flags_;
+  detail::LargeArray<std::uint32_t> modified_;  // clock of the vertex's last change
   static constexpr VertexIndex kNoOrigin = 0xffffffffu;
-  std::vector<VertexIndex> origin_;  // input vertex whose exact position v holds, or kNoOrigin
-  std::vector<std::uint32_t> mark_;  // see fresh_mark
+  detail::LargeArray<VertexIndex> origin_;  // input vertex whose exact position v holds, or kNoOrigin
+  detail::LargeArray<std::uint32_t> mark_;  // see fresh_mark
   Lane serial_;                      // the serial loop's queue and scratch
   std::vector<Lane> lanes_;          // one per partition, during the parallel phase
   std::uint32_t first_threshold_ = 0;

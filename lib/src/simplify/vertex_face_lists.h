@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../core/large_array.h"
+
 namespace visimp::detail {
 
 class VertexFaceLists {
@@ -99,7 +101,7 @@ class VertexFaceLists {
     for (std::size_t n : live) total += n + static_cast<std::size_t>(slack * double(n)) + 8;
     for (const Region& region : regions_) region_compactions_ += region.compactions;
     if (spread_in_place(vertices_per_region, slack, live, total)) return;
-    std::vector<std::uint32_t> packed(total);
+    LargeArray<std::uint32_t> packed(total);
     regions_.assign(count, Region{});
     std::size_t at = 0;
     for (std::size_t r = 0; r < count; ++r) {
@@ -228,7 +230,7 @@ class VertexFaceLists {
 
   // Rewrites the pool in vertex order, each slice as long as its list (the dead slices go).
   void compact() {
-    std::vector<std::uint32_t> packed;
+    LargeArray<std::uint32_t> packed;
     std::size_t live = 0;
     for (const Slot& s : slots_) live += s.size;
     packed.reserve(live + live / 4);
@@ -265,10 +267,10 @@ class VertexFaceLists {
     std::size_t compactions = 0;
   };
 
-  std::vector<Slot> slots_;
+  LargeArray<Slot> slots_;
   std::vector<Region> regions_;  // empty outside the parallel phase
   std::size_t vertices_per_region_ = 0;
-  std::vector<std::uint32_t> pool_;
+  LargeArray<std::uint32_t> pool_;  // huge-page backed: core/large_array.h
   std::size_t dead_ = 0;  // entries of the pool no list uses
   std::size_t region_compactions_ = 0;  // of the regions already joined
 };

@@ -1,0 +1,90 @@
+// Private to the library: an allocator for arrays of megabytes, backed by transparent huge
+// pages where the system offers them (docs/simplify.md, "Huge pages for the big arrays").
+//
+// The collapse engine's arrays (positions, quadrics, face lists, queues) are written once
+// from start to end and then read all over. With 4 KiB pages every new array costs one page
+// fault per 4 KiB: on the dragon at 10% about 50,000 of them, 13% of the run's samples on this
+// project's virtual machines (a fault is an exit to the hypervisor). An array of at least
+// kLargeArrayBytes is mapped on its own, starting on a 2 MiB boundary, and advised
+// MADV_HUGEPAGE, so the kernel fills it 2 MiB at a time (Linux's default THP mode, "madvise",
+// honours the advice; "never" ignores it and nothing changes). Its length is rounded to 4 KiB
+// pages only: the last partial 2 MiB stays in small pages, so the resident set holds no
+// more than the array touches. Freeing unmaps it at once, giving the memory back without
+// malloc_trim. Smaller arrays, and every array off Linux, come from operator new as usual.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <new>
+#include <vector>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace visimp::detail {
+
+constexpr std::size_t kLargeArrayBytes = std::size_t(4) << 20;
+
+#if defined(__linux__)
+inline void* map_large_array(std::size_t bytes) {
+  constexpr std::size_t kHuge = std::size_t(2) << 20, kPage = 4096;
+  const std::size_t length = (bytes + kPage - 1) & ~(kPage - 1);
+  // Over-map by 2 MiB and trim, so the array starts on a huge-page boundary.
+  void* raw = mmap(nullptr, length + kHuge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (raw == MAP_FAILED) throw std::bad_alloc();
+  const auto start = reinterpret_cast<std::uintptr_t>(raw);
+  const std::uintptr_t aligned = (start + kHuge - 1) & ~std::uintptr_t(kHuge - 1);
+  if (aligned > start) munmap(raw, aligned - start);
+  const std::uintptr_t end = start + length + kHuge;
+  if (end > aligned + length) munmap(reinterpret_cast<void*>(aligned + length), end - (aligned + length));
+  madvise(reinterpret_cast<void*>(aligned), length, MADV_HUGEPAGE);  // advice: failure changes nothing
+  return reinterpret_cast<void*>(aligned);
+}
+
+inline void unmap_large_array(void* p, std::size_t bytes) {
+  constexpr std::size_t kPage = 4096;
+  munmap(p, (bytes + kPage - 1) & ~(kPage - 1));
+}
+#endif
+
+template <class T>
+struct LargeArrayAllocator {
+  using value_type = T;
+
+  LargeArrayAllocator() = default;
+  template <class U>
+  LargeArrayAllocator(const LargeArrayAllocator<U>&) noexcept {}
+
+  T* allocate(std::size_t n) {
+    if (n > SIZE_MAX / sizeof(T)) throw std::bad_array_new_length();
+    const std::size_t bytes = n * sizeof(T);
+#if defined(__linux__)
+    if (bytes >= kLargeArrayBytes) return static_cast<T*>(map_large_array(bytes));
+#endif
+    return static_cast<T*>(::operator new(bytes));
+  }
+
+  void deallocate(T* p, std::size_t n) noexcept {
+    const std::size_t bytes = n * sizeof(T);
+#if defined(__linux__)
+    if (bytes >= kLargeArrayBytes) return unmap_large_array(p, bytes);
+#endif
+    ::operator delete(p);
+  }
+
+  template <class U>
+  bool operator==(const LargeArrayAllocator<U>&) const noexcept {
+    return true;
+  }
+  template <class U>
+  bool operator!=(const LargeArrayAllocator<U>&) const noexcept {
+    return false;
+  }
+};
+
+/// A std::vector whose storage, once it reaches kLargeArrayBytes, is huge-page backed.
+template <class T>
+using LargeArray = std::vector<T, LargeArrayAllocator<T>>;
+
+}  // namespace visimp::detail
