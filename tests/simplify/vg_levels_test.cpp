@@ -230,7 +230,7 @@ TEST(SimplifyParallel, TheMeshIsTheSameForEveryThreadCount) {
     if (method == SimplifyMethod::vg)
       for (std::size_t f = 0; f < m.num_faces(); ++f)
         o.face_visibility.push_back(m.positions[m.faces[f][0]].z > 0.3 ? 1.0f : 0.2f);
-    for (double ratio : {0.1, 0.02}) {  // the phase's two rungs
+    for (double ratio : {0.2, 0.1, 0.02}) {  // the phase's three rungs
       SCOPED_TRACE("ratio " + std::to_string(ratio));
       o.target_ratio = ratio;
       o.threads = 1;
@@ -252,25 +252,31 @@ TEST(SimplifyParallel, TheMeshIsTheSameForEveryThreadCount) {
 }
 
 TEST(SimplifyParallel, LevelsOnBothSidesOfThePhaseEqualSeparateRuns) {
-  // 50% is above the phase's first rung (3/10 of the input) and runs without it; 30% and 10%
-  // share the first rung's phase, 9001 faces (2.7%) and 3000 the deeper one (5% and below).
+  // 50% is above the phase's first rung (3/10 of the input) and runs without it; 30% and 20%
+  // share the first rung's phase, 10% the second's (12% and below), 9001 faces (2.7%) and
+  // 3000 the deepest one (5% and below).
   const Mesh m = bumpy_sphere();
-  expect_levels_equal_separate_runs(m, SimplifyOptions{},
-                                    {m.num_faces() / 2, m.num_faces() * 3 / 10, m.num_faces() / 10, 9001, 3000});
+  expect_levels_equal_separate_runs(
+      m, SimplifyOptions{},
+      {m.num_faces() / 2, m.num_faces() * 3 / 10, m.num_faces() / 5, m.num_faces() / 10, 9001, 3000});
   SimplifyOptions o;
   o.target_faces = m.num_faces() / 2;
   const SimplifyResult serial = simplify(m, o).result;
   EXPECT_EQ(serial.parallel_collapses, 0u);
   EXPECT_EQ(serial.stage_seconds.parallel_phase, 0.0);
-  o.target_faces = m.num_faces() / 10;
+  o.target_faces = m.num_faces() / 5;
   const SimplifyResult first_rung = simplify(m, o).result;
+  o.target_faces = m.num_faces() / 10;
+  const SimplifyResult second_rung = simplify(m, o).result;
   o.target_faces = 9001;
   const SimplifyResult parallel = simplify(m, o).result;
   EXPECT_GT(first_rung.parallel_collapses, 0u);
-  // The deeper rung does more of the work in the phase: partitions go on to 95% removed.
-  EXPECT_GT(parallel.parallel_collapses, first_rung.parallel_collapses + m.num_faces() / 10);
+  // Each deeper rung does more of the work in the phase: partitions go on to 88% and to 95%
+  // removed, where the first rung stops rounds at 35% of the faces left.
+  EXPECT_GT(second_rung.parallel_collapses, first_rung.parallel_collapses + m.num_faces() / 20);
+  EXPECT_GT(parallel.parallel_collapses, second_rung.parallel_collapses + m.num_faces() / 40);
   // ...without crushing the partitions' interiors: largest collapse error 1.50e-4 of the
-  // diagonal (measured); 3.54e-4 when rung 2's goal counted the full-resolution cut band too.
+  // diagonal (measured); 3.54e-4 when rung 3's goal counted the full-resolution cut band too.
   EXPECT_LT(parallel.max_error, 2.0e-4);
   // The stages account for the run: each took time, and together no more than the whole.
   for (const SimplifyResult& r : {serial, parallel}) {

@@ -139,7 +139,9 @@ constexpr std::size_t kPartitionVertices = std::size_t(1) << 15;
 // which rung its target is under. At depth d a partition stops once it has removed
 // budget_per_mille/1000 of its faces, so the phase never ends below (1000 - budget)/1000 of
 // the input and every target at or below that shares it; rounds stop once `goal` of the
-// faces is left. Depth 1 serves targets from 30% down, depth 2 those at 5% and below.
+// faces is left. Depth 1 serves targets from 30% down, depth 2 those from 12%, depth 3 those
+// at 5% and below. Without depth 2 a run to 10% did the phase to 35% and the rest, a quarter
+// of the input's collapses, on one thread (docs/simplify.md, "Three rungs").
 struct PhaseRung {
   std::size_t budget_per_mille;
   double goal;
@@ -147,8 +149,8 @@ struct PhaseRung {
   // at full resolution, and a deep goal over all faces would crush the interiors to meet it.
   bool goal_of_interior;
 };
-constexpr PhaseRung kPhaseRungs[] = {{700, 0.35, false}, {950, 0.07, true}};
-constexpr int kDeepestPhase = 2;
+constexpr PhaseRung kPhaseRungs[] = {{700, 0.35, false}, {880, 0.17, true}, {950, 0.07, true}};
+constexpr int kDeepestPhase = 3;
 // Each round's cost threshold is the last one's float bits plus half a binade (x1.33-1.5).
 constexpr std::uint32_t kThresholdStep = std::uint32_t(1) << 22;
 constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
