@@ -112,7 +112,9 @@ int run_build(const Args& args) {
       set.bits = record_bitfields(mesh, partition, cameras, *renderer, options, &progress);
     } else {
       // One pass: the tally and the bitfields read the same frames.
-      const VisibilityJob job(mesh, renderer->resolution(), VisibilityOptions{});
+      VisibilityOptions job_options;
+      job_options.threads = render_options(sampling).threads;  // preparing and finishing, as rendering
+      const VisibilityJob job(mesh, renderer->resolution(), job_options);
       BitfieldRecorder recorder(mesh, job.scene(), job.scene_input_faces(), partition, cameras.size(), options);
       const VisibilityTally tally = job.render(cameras, 0, cameras.size(), *renderer, &progress, &recorder);
       set.bits = recorder.finish();

@@ -206,6 +206,7 @@ int run_orient(const Args& args) {
   parser.add(describe_options(stream, true));
   if (!parser.parse(args)) return 0;
   options.threads = render_options(sampling).threads;  // preparing and finishing, as rendering
+  orient.threads = options.threads;                    // and the winding patches
   check_options(options);
   if (options.trust_winding) throw UsageError("--trust-winding measures one side only: orient needs both");
   const std::string& in = parser.positionals()[0];

@@ -371,6 +371,8 @@ py::dict compare_py(const std::string& path, const std::string& out_dir, std::si
   options.metro_samples = metro_samples;
   options.image.resolution = image_resolution;
   options.image.threads = thread_count(threads);
+  options.simplify.threads = options.image.threads;  // every stage on the caller's threads
+  options.visibility.threads = options.image.threads;
   options.tie_noise_runs = tie_noise_runs;
   check_options(options);
   Sampling s = sampling(cameras, resolution, thread_count(threads), backend);

@@ -32,8 +32,17 @@ TEST(Orient, RewindsAScanWithReversedFacesBackOutward) {
       ++flipped;
     }
   }
-  const OrientResult r = orient_by_visibility(mixed, measure(mixed));
+  const Visibility v = measure(mixed);
+  const OrientResult r = orient_by_visibility(mixed, v);
   EXPECT_EQ(r.reversed, flipped);
+  // The winding patches are found on the caller's threads, with the same result for any count.
+  for (unsigned threads : {1u, 3u}) {
+    OrientOptions o;
+    o.threads = threads;
+    const OrientResult t = orient_by_visibility(mixed, v, o);
+    EXPECT_EQ(t.reversed, r.reversed);
+    EXPECT_EQ(t.mesh.faces, r.mesh.faces);
+  }
   EXPECT_EQ(r.seen_from_both_sides, 0u);
   for (std::size_t f = 0; f < bunny.num_faces(); ++f) ASSERT_TRUE(same_winding(r.mesh.faces[f], bunny.faces[f])) << f;
   EXPECT_EQ(analyze(r.mesh).misoriented_edges, 0u);

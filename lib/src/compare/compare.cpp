@@ -132,6 +132,7 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   metro.samples =
       options.metro_samples ? options.metro_samples : std::min<std::size_t>(10 * input.num_faces(), 2'000'000);
   metro.face_visibility = r.visibility.face;
+  metro.threads = static_cast<int>(options.image.threads);  // the caller's --threads, as the image error
   const std::size_t total = r.qb.size() + r.vg.size();
   std::size_t done = 0;
   // The input's index and samples once for all 2 x levels (at 14M faces: 20 s each time).

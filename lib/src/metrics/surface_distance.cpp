@@ -45,7 +45,7 @@ struct SamplePlan {
 };
 
 SamplePlan plan_samples(const Mesh& m, std::size_t count, std::size_t edge_count, std::uint64_t seed,
-                        FaceSampling sampling) {
+                        FaceSampling sampling, unsigned threads) {
   SamplePlan plan;
   plan.sampling = sampling;
   plan.seed = seed;
@@ -101,7 +101,7 @@ SamplePlan plan_samples(const Mesh& m, std::size_t count, std::size_t edge_count
     }
     plan.face_offset[f + 1] = plan.face_offset[f] + plan.face_samples[f];
   }
-  plan.face_order = spatial_face_order(m);
+  plan.face_order = spatial_face_order(m, threads);  // the same order for any thread count
   return plan;
 }
 
@@ -329,12 +329,14 @@ SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDist
   const ClosestTriangleIndex* index_of_a = nullptr;
   std::unique_lock<std::mutex> lock;
   auto t = std::chrono::steady_clock::now();
+  const unsigned sort_threads = options.threads > 0 ? unsigned(options.threads) : 0u;
   if (cache != nullptr) {
     lock = std::unique_lock<std::mutex>(cache->mutex);
     const bool same_plan = cache->plan && cache->count == count && cache->edges == edges &&
                            cache->seed == options.seed && cache->sampling == options.sampling;
     if (!same_plan) {
-      cache->plan = std::make_unique<const SamplePlan>(plan_samples(a, count, edges, options.seed, options.sampling));
+      cache->plan = std::make_unique<const SamplePlan>(
+          plan_samples(a, count, edges, options.seed, options.sampling, sort_threads));
       cache->count = count;
       cache->edges = edges;
       cache->seed = options.seed;
@@ -342,10 +344,10 @@ SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDist
     }
     on_a = cache->plan.get();
   } else {
-    own_plan = std::make_unique<const SamplePlan>(plan_samples(a, count, edges, options.seed, options.sampling));
+    own_plan = std::make_unique<const SamplePlan>(plan_samples(a, count, edges, options.seed, options.sampling, sort_threads));
     on_a = own_plan.get();
   }
-  const SamplePlan on_b = plan_samples(b, count, edges, options.seed + 1, options.sampling);
+  const SamplePlan on_b = plan_samples(b, count, edges, options.seed + 1, options.sampling, sort_threads);
   r.seconds_sampling = seconds_since(t);
   SampleDistances from_a;
   {  // one index at a time when nothing is kept: the larger mesh's is the largest allocation

@@ -17,7 +17,7 @@ OrientResult orient_by_visibility(const Mesh& mesh, const Visibility& visibility
   if (!(options.both_sides_threshold >= 0 && options.both_sides_threshold < 1)) {
     throw UsageError("both_sides_threshold must be in [0, 1)");
   }
-  const OrientationPatches patches = orientation_patches(mesh);
+  const OrientationPatches patches = orientation_patches(mesh, options.threads);
   enum class Decision : std::uint8_t { keep, reverse, both_sides, unseen };
   std::vector<Decision> decision(n, Decision::unseen);
   // Per patch: area of the seen faces that want the patch's canonical winding, and the other.

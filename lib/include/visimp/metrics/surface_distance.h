@@ -31,7 +31,7 @@ struct SurfaceDistanceOptions {
   FaceSampling sampling = FaceSampling::random;
   /// Seed of the sample positions; the same seed gives the same numbers.
   std::uint64_t seed = 1;
-  /// Worker threads for the distance queries; 0 uses every core.
+  /// Worker threads for the distance queries and the samples' spatial order; 0 uses every core.
   int threads = 0;
   /// Edge samples per direction, spread by length; 0 means one per face (Metro samples edges too).
   std::size_t edge_samples = 0;

@@ -15,6 +15,9 @@ namespace visimp {
 struct OrientOptions {
   /// A face counts as seen from both sides when each side's V exceeds this. Range [0, 1).
   double both_sides_threshold = 0.02;
+  /// Threads that find the winding patches (0: one per hardware thread); any count gives the
+  /// same result.
+  unsigned threads = 0;
 };
 
 struct OrientResult {
