@@ -32,20 +32,34 @@ TEST(Orient, RewindsAScanWithReversedFacesBackOutward) {
       ++flipped;
     }
   }
-  const Visibility v = measure(mixed);
-  const OrientResult r = orient_by_visibility(mixed, v);
+  const OrientResult r = orient_by_visibility(mixed, measure(mixed));
   EXPECT_EQ(r.reversed, flipped);
-  // The winding patches are found on the caller's threads, with the same result for any count.
-  for (unsigned threads : {1u, 3u}) {
-    OrientOptions o;
-    o.threads = threads;
-    const OrientResult t = orient_by_visibility(mixed, v, o);
-    EXPECT_EQ(t.reversed, r.reversed);
-    EXPECT_EQ(t.mesh.faces, r.mesh.faces);
-  }
+
   EXPECT_EQ(r.seen_from_both_sides, 0u);
   for (std::size_t f = 0; f < bunny.num_faces(); ++f) ASSERT_TRUE(same_winding(r.mesh.faces[f], bunny.faces[f])) << f;
   EXPECT_EQ(analyze(r.mesh).misoriented_edges, 0u);
+}
+
+TEST(Orient, SameResultForAnyThreadCount) {
+  // 40,962 vertices: more than one of the winding patches' vertex ranges (2^14), so several
+  // threads really split the work.
+  Mesh sphere = test::icosphere(6);
+  ASSERT_GT(sphere.num_vertices(), std::size_t(1) << 15);
+  std::mt19937 random(5);
+  for (Face& f : sphere.faces)
+    if (random() % 4 == 0) std::swap(f[1], f[2]);
+  const Visibility v = measure(sphere);
+  OrientOptions o;
+  o.threads = 1;
+  const OrientResult one = orient_by_visibility(sphere, v, o);
+  EXPECT_GT(one.reversed, sphere.num_faces() / 8);
+  EXPECT_EQ(analyze(one.mesh).misoriented_edges, 0u);
+  for (unsigned threads : {2u, 3u}) {
+    o.threads = threads;
+    const OrientResult many = orient_by_visibility(sphere, v, o);
+    EXPECT_EQ(many.reversed, one.reversed);
+    EXPECT_EQ(many.mesh.faces, one.mesh.faces);
+  }
 }
 
 TEST(Orient, LeavesFacesSeenFromBothSidesAndWindsHiddenOnesLikeTheirSurface) {

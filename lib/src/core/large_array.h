@@ -7,10 +7,12 @@
 // project's virtual machines (a fault is an exit to the hypervisor). An array of at least
 // kLargeArrayBytes is mapped on its own, starting on a 2 MiB boundary, and advised
 // MADV_HUGEPAGE, so the kernel fills it 2 MiB at a time (Linux's default THP mode, "madvise",
-// honours the advice; "never" ignores it and nothing changes). Its length is rounded to 4 KiB
-// pages only: the last partial 2 MiB stays in small pages, so the resident set holds no
-// more than the array touches. Freeing unmaps it at once, giving the memory back without
-// malloc_trim. Smaller arrays, and every array off Linux, come from operator new as usual.
+// honours the advice; "never" ignores it and nothing changes). Its length is rounded to
+// pages only: the last partial 2 MiB stays in small pages, so at most one huge page of an
+// array's unused capacity can be resident. Freeing unmaps it at once, giving the memory back
+// without malloc_trim. Smaller arrays, every array on a kernel whose pages are not 4 KiB
+// (2 MiB huge pages go with 4 KiB pages on x86-64 and most ARM64 kernels) and every array off
+// Linux come from operator new as usual.
 #pragma once
 
 #include <cstddef>
@@ -20,6 +22,7 @@
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 namespace visimp::detail {
@@ -27,6 +30,13 @@ namespace visimp::detail {
 constexpr std::size_t kLargeArrayBytes = std::size_t(4) << 20;
 
 #if defined(__linux__)
+// True where 2 MiB-aligned huge pages sit on 4 KiB pages; elsewhere (16 or 64 KiB pages) the
+// rounding below would not be page-aligned, so large arrays come from operator new.
+inline bool huge_pages_on_4k() {
+  static const bool yes = sysconf(_SC_PAGESIZE) == 4096;
+  return yes;
+}
+
 inline void* map_large_array(std::size_t bytes) {
   constexpr std::size_t kHuge = std::size_t(2) << 20, kPage = 4096;
   const std::size_t length = (bytes + kPage - 1) & ~(kPage - 1);
@@ -51,6 +61,7 @@ inline void unmap_large_array(void* p, std::size_t bytes) {
 template <class T>
 struct LargeArrayAllocator {
   using value_type = T;
+  static_assert(alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__, "operator new(bytes) aligns no further");
 
   LargeArrayAllocator() = default;
   template <class U>
@@ -60,7 +71,7 @@ struct LargeArrayAllocator {
     if (n > SIZE_MAX / sizeof(T)) throw std::bad_array_new_length();
     const std::size_t bytes = n * sizeof(T);
 #if defined(__linux__)
-    if (bytes >= kLargeArrayBytes) return static_cast<T*>(map_large_array(bytes));
+    if (bytes >= kLargeArrayBytes && huge_pages_on_4k()) return static_cast<T*>(map_large_array(bytes));
 #endif
     return static_cast<T*>(::operator new(bytes));
   }
@@ -68,7 +79,7 @@ struct LargeArrayAllocator {
   void deallocate(T* p, std::size_t n) noexcept {
     const std::size_t bytes = n * sizeof(T);
 #if defined(__linux__)
-    if (bytes >= kLargeArrayBytes) return unmap_large_array(p, bytes);
+    if (bytes >= kLargeArrayBytes && huge_pages_on_4k()) return unmap_large_array(p, bytes);
 #endif
     ::operator delete(p);
   }

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <optional>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -150,7 +151,10 @@ struct PhaseRung {
   bool goal_of_interior;
 };
 constexpr PhaseRung kPhaseRungs[] = {{700, 0.35, false}, {880, 0.17, true}, {950, 0.07, true}};
-constexpr int kDeepestPhase = 3;
+constexpr int kDeepestPhase = static_cast<int>(std::size(kPhaseRungs));
+// parallel_phase_depth takes the deepest rung a target is under: budgets must grow with depth.
+static_assert(kPhaseRungs[0].budget_per_mille < kPhaseRungs[1].budget_per_mille &&
+              kPhaseRungs[1].budget_per_mille < kPhaseRungs[2].budget_per_mille);
 // Each round's cost threshold is the last one's float bits plus half a binade (x1.33-1.5).
 constexpr std::uint32_t kThresholdStep = std::uint32_t(1) << 22;
 constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
@@ -164,8 +168,10 @@ constexpr std::uint32_t kLastFiniteKey = 0x7f7fffffu;
 constexpr std::size_t kTrimFloor = std::size_t(16) << 20;
 
 void give_back_freed_memory() {
-#ifdef __GLIBC__
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
   if (mallinfo2().fordblks >= kTrimFloor) malloc_trim(0);
+#elif defined(__GLIBC__)
+  malloc_trim(0);  // no mallinfo2 before glibc 2.33: trim every time, as before the floor
 #endif
 }
 
