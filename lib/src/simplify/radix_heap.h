@@ -7,122 +7,284 @@
 // million-edge mesh this is several times faster than a binary heap, whose sifts miss cache.
 // A key below the last popped key is clamped to it ("process next"), which is what a greedy
 // queue would do with the cheapest item anyway.
+//
+// Each bucket is a chain of fixed 4 KiB blocks, not a growing array: a bucket never copies
+// its items to grow, and the blocks a refill empties are refilled at once by the buckets it
+// fills, so the memory stays mapped and in cache. (Growing arrays copied every entry about
+// twice and faulted in fresh pages for each copy: 8% of a run on the dragon.) Each bucket
+// wastes at most one part-filled block, a few KiB per heap.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
-#include <vector>
+#include <new>
+#include <type_traits>
+#include <utility>
 
 namespace visimp::detail {
 
-/// T must have a `std::uint32_t key` member; Container is the buckets' vector type (the
-/// engine's are huge-page backed once large: core/large_array.h).
-template <class T, class Container = std::vector<T>>
+/// T must be trivially copyable with a `std::uint32_t key` member. Container (a vector of T)
+/// is what assign() takes and take_all() fills.
+template <class T, class Container>
 class RadixHeap {
+  static_assert(std::is_trivially_copyable_v<T>);
+
  public:
+  RadixHeap() = default;
+  RadixHeap(const RadixHeap& other) : bulk_(other.bulk_), last_(other.last_), size_(other.size_) {
+    for (std::size_t b = 0; b < buckets_.size(); ++b)
+      for (const Block* block = other.buckets_[b].oldest; block != nullptr; block = block->newer)
+        for (std::uint32_t i = 0; i < block->count; ++i) append(buckets_[b], block->items[i]);
+  }
+  RadixHeap(RadixHeap&& other) noexcept { swap(other); }
+  RadixHeap& operator=(RadixHeap other) noexcept {
+    swap(other);
+    return *this;
+  }
+  ~RadixHeap() {
+    clear();
+    release_spare_blocks(0);
+  }
+
   bool empty() const { return size_ == 0; }
   std::size_t size() const { return size_; }
 
   void push(T item) {
+    if (!bulk_.empty()) spread_bulk();
     if (item.key < last_) item.key = last_;
-    Container& bucket = buckets_[bucket_of(item.key)];
-    // Grown by half, not doubled: doubling left the buckets of a 14M-face run holding 1.85×
-    // their entries (300 MB unused at the parallel phase's peak). Each entry is then copied
-    // ~2 times over its life instead of ~1, sequentially (by a quarter: ~4, and 7% wall).
-    if (bucket.size() == bucket.capacity()) bucket.reserve(bucket.size() + bucket.size() / 2 + 64);
-    bucket.push_back(item);
+    append(buckets_[bucket_of(item.key)], item);
     ++size_;
   }
 
-  /// Fills an empty heap with `items` at once, without the per-push growth: they wait in the
-  /// top bucket, which the first pop sorts out with every bucket sized exactly. (Pushed one by
-  /// one, 21M initial edges of a 14M-face mesh grew vectors by doubling and then moved into
-  /// buckets that doubled again: over a gigabyte at the first pop.)
+  /// Empties the heap and fills it with `items` at once: they wait in their array until the
+  /// next push or pop spreads them over the buckets. (Pushed one by one, the initial edges
+  /// would be copied into the top bucket only to be moved down at the first pop.)
   void assign(Container&& items) {
-    for (auto& bucket : buckets_) Container().swap(bucket);
-    last_ = 0;
+    clear();
     size_ = items.size();
-    buckets_.back() = std::move(items);
+    bulk_ = std::move(items);
   }
 
   /// Removes and returns an item with the smallest key; among equal keys the last pushed.
   T pop() {
-    if (buckets_[0].empty()) refill_first_bucket();
-    T item = buckets_[0].back();
-    buckets_[0].pop_back();
+    if (buckets_[0].newest == nullptr) refill_first_bucket();
     --size_;
-    return item;
+    return take_newest(buckets_[0]);
   }
 
   /// The smallest key (the heap must not be empty).
   std::uint32_t min_key() {
-    if (buckets_[0].empty()) refill_first_bucket();
+    if (buckets_[0].newest == nullptr) refill_first_bucket();
     return last_;
   }
 
   /// Pops an item with the smallest key into `out` if that key is at most `limit`.
   bool pop_at_most(std::uint32_t limit, T& out) {
     if (size_ == 0) return false;
-    if (buckets_[0].empty()) refill_first_bucket();
+    if (buckets_[0].newest == nullptr) refill_first_bucket();
     if (last_ > limit) return false;  // bucket 0 holds exactly the keys equal to last_
-    out = buckets_[0].back();
-    buckets_[0].pop_back();
+    out = take_newest(buckets_[0]);
     --size_;
     return true;
   }
 
-  /// Appends every item to `into` (bucket by bucket, in a fixed order) and empties the heap.
+  /// Appends every item to `into` (bucket by bucket, oldest first) and empties the heap.
   void take_all(Container& into) {
-    for (auto& bucket : buckets_) {
-      into.insert(into.end(), bucket.begin(), bucket.end());
-      Container().swap(bucket);
-    }
-    size_ = 0;
-    last_ = 0;
+    into.insert(into.end(), bulk_.begin(), bulk_.end());  // when there is bulk, no bucket has items
+    for (const Bucket& bucket : buckets_)
+      for (const Block* block = bucket.oldest; block != nullptr; block = block->newer)
+        into.insert(into.end(), block->items, block->items + block->count);
+    clear();
+    release_spare_blocks(0);
   }
 
-  /// Drops every item for which `drop(item)` is true (used to shed stale entries).
+  /// Drops every item for which `drop(item)` is true (used to shed stale entries), keeping the
+  /// others' order; the blocks left empty are freed.
   template <class Pred>
   void remove_if(Pred drop) {
     size_ = 0;
-    for (auto& bucket : buckets_) {
-      std::size_t kept = 0;
-      for (const T& item : bucket)
-        if (!drop(item)) bucket[kept++] = item;
-      bucket.resize(kept);
-      bucket.shrink_to_fit();
-      size_ += kept;
+    std::size_t kept = 0;
+    for (const T& item : bulk_)
+      if (!drop(item)) bulk_[kept++] = item;
+    bulk_.resize(kept);
+    bulk_.shrink_to_fit();
+    size_ += kept;
+    for (Bucket& bucket : buckets_) {
+      // Compact in place: a write cursor follows the read cursor through the chain.
+      Block* write = bucket.oldest;
+      std::uint32_t at = 0;
+      for (Block* read = bucket.oldest; read != nullptr; read = read->newer) {
+        for (std::uint32_t i = 0; i < read->count; ++i) {
+          if (drop(read->items[i])) continue;
+          if (at == kBlockItems) {
+            write = write->newer;
+            at = 0;
+          }
+          write->items[at++] = read->items[i];
+          ++size_;
+        }
+      }
+      if (write == nullptr) continue;
+      Block* rest = write->newer;
+      write->count = at;
+      write->newer = nullptr;
+      bucket.newest = write;
+      if (at == 0) {  // nothing kept in the bucket's first block either
+        bucket.oldest = bucket.newest = nullptr;
+        give_back(write);
+      }
+      while (rest != nullptr) {
+        Block* next = rest->newer;
+        give_back(rest);
+        rest = next;
+      }
     }
   }
 
  private:
+  static constexpr std::size_t kBlockBytes = 4096;
+  struct BlockHeader {
+    BlockHeader* older;
+    BlockHeader* newer;
+    std::uint32_t count;
+  };
+  static constexpr std::uint32_t kBlockItems =
+      static_cast<std::uint32_t>((kBlockBytes - sizeof(BlockHeader)) / sizeof(T));
+  static_assert(kBlockItems >= 16, "items too large for a block");
+  struct Block {
+    Block* older;
+    Block* newer;
+    std::uint32_t count;
+    T items[kBlockItems];
+  };
+  struct Bucket {
+    Block* oldest = nullptr;
+    Block* newest = nullptr;
+  };
+  // Emptied blocks kept for reuse, beyond them freed: a refill hands its blocks over one by
+  // one, and a lane of the parallel phase should hold little it does not use.
+  static constexpr std::size_t kSpareBlocks = 4;
+
   int bucket_of(std::uint32_t key) const { return key == last_ ? 0 : 32 - __builtin_clz(key ^ last_); }
 
-  void refill_first_bucket() {
-    int i = 1;
-    while (buckets_[i].empty()) ++i;
-    std::uint32_t smallest = buckets_[i][0].key;
-    for (const T& item : buckets_[i])
-      if (item.key < smallest) smallest = item.key;
-    last_ = smallest;
-    std::array<std::size_t, 33> incoming{};
-    for (const T& item : buckets_[i]) ++incoming[bucket_of(item.key)];
-    for (int b = 0; b < i; ++b) buckets_[b].reserve(buckets_[b].size() + incoming[b]);
-    for (const T& item : buckets_[i]) buckets_[bucket_of(item.key)].push_back(item);
-    // A bucket once emptied refills slowly (it holds only keys far above the last popped):
-    // give a large one's memory back instead of keeping capacity no one uses. Kept, the
-    // emptied buckets' capacities added up to several times the live entries.
-    if (buckets_[i].capacity() > kKeptCapacity)
-      Container().swap(buckets_[i]);
-    else
-      buckets_[i].clear();
+  void append(Bucket& bucket, const T& item) {
+    Block* block = bucket.newest;
+    if (block == nullptr || block->count == kBlockItems) {
+      Block* fresh = new_block();
+      fresh->older = block;
+      fresh->newer = nullptr;
+      fresh->count = 0;
+      if (block != nullptr)
+        block->newer = fresh;
+      else
+        bucket.oldest = fresh;
+      bucket.newest = block = fresh;
+    }
+    block->items[block->count++] = item;
   }
 
-  static constexpr std::size_t kKeptCapacity = 4096;
+  T take_newest(Bucket& bucket) {
+    Block* block = bucket.newest;
+    const T item = block->items[--block->count];
+    if (block->count == 0) {
+      bucket.newest = block->older;
+      if (bucket.newest != nullptr)
+        bucket.newest->newer = nullptr;
+      else
+        bucket.oldest = nullptr;
+      give_back(block);
+    }
+    return item;
+  }
 
-  std::array<Container, 33> buckets_;
+  void refill_first_bucket() {
+    if (!bulk_.empty()) return spread_bulk();
+    int i = 1;
+    while (buckets_[i].oldest == nullptr) ++i;
+    std::uint32_t smallest = UINT32_MAX;
+    for (const Block* block = buckets_[i].oldest; block != nullptr; block = block->newer)
+      for (std::uint32_t k = 0; k < block->count; ++k) smallest = std::min(smallest, block->items[k].key);
+    last_ = smallest;
+    // Every item goes to a lower bucket, oldest first; each emptied block is reused at once.
+    Block* block = buckets_[i].oldest;
+    buckets_[i] = Bucket{};
+    while (block != nullptr) {
+      for (std::uint32_t k = 0; k < block->count; ++k) append(buckets_[bucket_of(block->items[k].key)], block->items[k]);
+      Block* next = block->newer;
+      give_back(block);
+      block = next;
+    }
+  }
+
+  // The assigned items over the buckets (all empty while there is bulk), from their smallest
+  // key up: what a refill of a top bucket holding them would do.
+  void spread_bulk() {
+    std::uint32_t smallest = UINT32_MAX;
+    for (const T& item : bulk_) smallest = std::min(smallest, item.key);
+    last_ = smallest;
+    for (const T& item : bulk_) append(buckets_[bucket_of(item.key)], item);
+    Container().swap(bulk_);
+  }
+
+  Block* new_block() {
+    if (spare_ == nullptr) return static_cast<Block*>(::operator new(sizeof(Block)));
+    Block* block = spare_;
+    spare_ = block->newer;
+    --spare_count_;
+    return block;
+  }
+
+  void give_back(Block* block) {
+    if (spare_count_ >= kSpareBlocks) {
+      ::operator delete(block);
+      return;
+    }
+    block->newer = spare_;
+    spare_ = block;
+    ++spare_count_;
+  }
+
+  void release_spare_blocks(std::size_t keep) {
+    while (spare_count_ > keep) {
+      Block* block = spare_;
+      spare_ = block->newer;
+      --spare_count_;
+      ::operator delete(block);
+    }
+  }
+
+  // Empties the heap; its blocks become spares.
+  void clear() {
+    for (Bucket& bucket : buckets_) {
+      for (Block* block = bucket.oldest; block != nullptr;) {
+        Block* next = block->newer;
+        give_back(block);
+        block = next;
+      }
+      bucket = Bucket{};
+    }
+    Container().swap(bulk_);
+    last_ = 0;
+    size_ = 0;
+  }
+
+  void swap(RadixHeap& other) noexcept {
+    std::swap(buckets_, other.buckets_);
+    bulk_.swap(other.bulk_);
+    std::swap(last_, other.last_);
+    std::swap(size_, other.size_);
+    std::swap(spare_, other.spare_);
+    std::swap(spare_count_, other.spare_count_);
+  }
+
+  std::array<Bucket, 33> buckets_{};
+  Container bulk_;  // items given by assign(), not yet spread
   std::uint32_t last_ = 0;
   std::size_t size_ = 0;
+  Block* spare_ = nullptr;  // emptied blocks for reuse, chained through `newer`
+  std::size_t spare_count_ = 0;
 };
 
 /// The radix key of a non-negative float: its bit pattern, which orders like the value.

@@ -86,7 +86,7 @@ struct HeapEntry {
   VertexIndex v0, v1;
   std::uint32_t time;
 };
-using Entries = detail::LargeArray<HeapEntry>;  // queues: huge-page backed when large
+using Entries = detail::LargeArray<HeapEntry>;  // edge arrays: huge-page backed when large
 
 /* Collapse profile of the edge (v0, v1); v1 is merged into v0 at `placement`.
 
