@@ -85,11 +85,13 @@ std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh, unsigned threads
   return order_by_key(key, threads);
 }
 
-std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh) {
+std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh, unsigned threads) {
   const MortonBox code(mesh);
   std::vector<std::uint32_t> key(mesh.num_vertices());
-  for (std::size_t v = 0; v < key.size(); ++v) key[v] = code(mesh.positions[v]);
-  return order_by_key(key, 1);
+  parallel_ranges(key.size(), 1 << 16, worker_count(threads, key.size()), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) key[v] = code(mesh.positions[v]);
+  });
+  return order_by_key(key, threads);
 }
 
 }  // namespace visimp

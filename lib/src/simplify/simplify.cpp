@@ -136,6 +136,8 @@ struct Lane {
 // consecutive vertices in the engine's spatial order: a fixed size, so the result does not
 // depend on the thread count.
 constexpr std::size_t kPartitionVertices = std::size_t(1) << 15;
+// Vertices per job in the set-up's parallel loops (their results do not depend on it).
+constexpr std::size_t kSetupRange = std::size_t(1) << 14;
 // How deep the phase goes, a ladder fixed in advance so that a run's phase depends only on
 // which rung its target is under. At depth d a partition stops once it has removed
 // budget_per_mille/1000 of its faces, so the phase never ends below (1000 - budget)/1000 of
@@ -198,9 +200,11 @@ class CollapseEngine {
         area_weights_(options.quadric_weights == QuadricWeights::area),
         boundary_weight_(options.boundary_weight) {
     const std::size_t nv = input.num_vertices();
-    reorder_spatially(input);
+    reorder_spatially(input, workers);
     positions_.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) positions_[v] = frame_.to_unit(input.positions[input_vertex_[v]]);
+    parallel_ranges(nv, kSetupRange, worker_count(workers, nv / kSetupRange + 1), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = begin; v < end; ++v) positions_[v] = frame_.to_unit(input.positions[input_vertex_[v]]);
+    });
     face_alive_.assign(faces_.size(), 1);
     faces_alive_ = faces_.size();
     // A face with a repeated index is a segment or a point: no area, no plane, no place in a
@@ -227,7 +231,7 @@ class CollapseEngine {
     quadrics_.assign(weighted_ ? 2 * nv : nv, Quadric{});
     build_vertex_faces();
     if (weighted_) compute_face_weights(options);
-    classify_vertices(options);
+    classify_vertices(options, workers);
     add_face_quadrics();
     serial_.last_vertex = static_cast<VertexIndex>(nv);
     phase_depth_ = phase_depth;
@@ -392,9 +396,9 @@ class CollapseEngine {
   // (a counting sort, stable in input order). Neighbours then sit close in every per-vertex
   // and per-face array: on meshes whose input order has little locality (a subdivided or
   // merged mesh) the collapse loop otherwise waits on memory.
-  void reorder_spatially(const Mesh& input) {
+  void reorder_spatially(const Mesh& input, unsigned workers) {
     const std::size_t nv = input.num_vertices(), nf = input.num_faces();
-    input_vertex_ = spatial_vertex_order(input);
+    input_vertex_ = spatial_vertex_order(input, workers);
     std::vector<VertexIndex> engine_index(nv);
     for (std::size_t v = 0; v < nv; ++v) engine_index[input_vertex_[v]] = static_cast<VertexIndex>(v);
     std::vector<std::uint32_t> first(nv + 1, 0);
@@ -445,8 +449,28 @@ class CollapseEngine {
   }
 
   // Locks vertices the collapse rules cannot handle (edges with 3+ faces, misoriented
-  // edges, several fans, a frozen boundary) and adds boundary planes.
-  void classify_vertices(const SimplifyOptions& options) {
+  // edges, several fans, a frozen boundary) and adds boundary planes. Ranges of vertices are
+  // classified in parallel (each writes only its own vertices' flags); the boundary edges
+  // they find are planed afterwards in vertex order, so every quadric sums the same planes in
+  // the same order for any thread count.
+  struct BoundaryEdge {
+    std::uint32_t face;
+    VertexIndex a, b;
+  };
+
+  void classify_vertices(const SimplifyOptions& options, unsigned workers) {
+    const std::size_t nv = positions_.size(), ranges = (nv + kSetupRange - 1) / kSetupRange;
+    std::vector<std::vector<BoundaryEdge>> boundary_edges(ranges);
+    parallel_ranges(nv, kSetupRange, worker_count(workers, ranges), [&](std::size_t begin, std::size_t end) {
+      classify_range(static_cast<VertexIndex>(begin), static_cast<VertexIndex>(end), options,
+                     boundary_edges[begin / kSetupRange]);
+    });
+    for (const std::vector<BoundaryEdge>& edges : boundary_edges)
+      for (const BoundaryEdge& e : edges) add_boundary_plane(e.face, e.a, e.b);
+  }
+
+  void classify_range(VertexIndex begin, VertexIndex end, const SimplifyOptions& options,
+                      std::vector<BoundaryEdge>& boundary_edges) {
     struct Incidence {
       VertexIndex other;
       bool outgoing;        // the face runs v -> other
@@ -454,7 +478,7 @@ class CollapseEngine {
       bool operator<(const Incidence& o) const { return other < o.other || (other == o.other && local < o.local); }
     };
     std::vector<Incidence> inc;
-    for (VertexIndex v = 0; v < positions_.size(); ++v) {
+    for (VertexIndex v = begin; v < end; ++v) {
       const auto& vf = vertex_faces_[v];
       if (vf.empty() || (flags_[v] & kLocked)) continue;
       inc.clear();
@@ -481,7 +505,7 @@ class CollapseEngine {
             --fan_count;
         } else {
           boundary = true;
-          if (v < inc[i].other) add_boundary_plane(vf[inc[i].local], v, inc[i].other);
+          if (v < inc[i].other) boundary_edges.push_back({vf[inc[i].local], v, inc[i].other});
         }
         i = j;
       }

@@ -19,6 +19,7 @@ std::uint32_t morton_code(const Vec3& unit);
 std::vector<std::uint32_t> spatial_face_order(const Mesh& mesh, unsigned threads = 0);
 
 /// The vertices of `mesh` sorted by the Morton code of their positions (ties by index).
-std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh);
+/// `threads` as for spatial_face_order; the order does not depend on it.
+std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh, unsigned threads = 1);
 
 }  // namespace visimp
