@@ -593,7 +593,7 @@ class CollapseEngine {
         }
   }
 
-  // Every edge once, costed into exactly sized arrays that become the queues: one for the
+  // Every edge once, costed into arrays that become the queues: one exactly sized for the
   // serial engine; when partitioned, one per partition, with the edges that cross into another
   // partition set aside for the serial phase. Chunks of kPartitionVertices vertices are costed
   // by `workers` threads, each into its own slice, so the arrays (and so the ties in the
@@ -625,37 +625,43 @@ class CollapseEngine {
               if (chunk_of(w) != c) flags_[v] |= kCut;
       });
     }
-    std::vector<std::size_t> inner(chunks, 0), crossing(chunks, 0);
-    parallel_for(0, chunks, workers, [&](unsigned worker, std::size_t c) {
-      for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
-        neighbors(worker, v, [&](VertexIndex w) {
-          if (w > v && !both_locked(v, w)) ++(partitioned && chunk_of(w) != c ? crossing[c] : inner[c]);
-        });
-    });
     Entries serial_edges;
     std::vector<Entries> partition_edges;
     std::vector<std::size_t> offset(chunks + 1, 0);
     if (partitioned) {
+      // No counting pass: a partition reserves room for as many edges as its vertices have
+      // face incidences (twice a closed manifold's edge count, an estimate, never a limit).
+      // The room never written is never faulted in, so it costs address space, not memory.
       lanes_.resize(chunks);
       partition_edges.resize(chunks);
-      for (std::size_t c = 0; c < chunks; ++c) {
-        partition_edges[c].resize(inner[c]);
-        lanes_[c].leftover.reserve(crossing[c]);
-      }
     } else {
+      // One array for the whole queue, each chunk's slice in place: counted first.
+      std::vector<std::size_t> inner(chunks, 0);
+      parallel_for(0, chunks, workers, [&](unsigned worker, std::size_t c) {
+        for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
+          neighbors(worker, v, [&](VertexIndex w) { inner[c] += w > v && !both_locked(v, w); });
+      });
       for (std::size_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + inner[c];
       serial_edges.resize(offset[chunks]);
     }
     parallel_for(0, chunks, workers, [&](unsigned worker, std::size_t c) {
-      HeapEntry* out = partitioned ? partition_edges[c].data() : serial_edges.data() + offset[c];
+      if (partitioned) {
+        std::size_t incidences = 0;
+        for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
+          incidences += vertex_faces_[v].size();
+        partition_edges[c].reserve(incidences);
+      }
+      HeapEntry* out = partitioned ? nullptr : serial_edges.data() + offset[c];
       for (VertexIndex v = static_cast<VertexIndex>(c * kPartitionVertices); v < chunk_end(c); ++v)
         neighbors(worker, v, [&](VertexIndex w) {
           if (w <= v || both_locked(v, w)) return;
           const HeapEntry e = *edge_entry(v, w, 0);
-          if (partitioned && chunk_of(w) != c)
+          if (!partitioned)
+            *out++ = e;
+          else if (chunk_of(w) != c)
             lanes_[c].leftover.push_back(e);
           else
-            *out++ = e;
+            partition_edges[c].push_back(e);
         });
     });
     if (!partitioned) {
