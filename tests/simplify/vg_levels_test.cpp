@@ -189,8 +189,9 @@ TEST(VisibilityGuided, RejectsMissingOrOutOfRangeVisibility) {
 }
 
 // Every level of one run equals a separate run to its count: on a closed mesh at odd
-// targets (the level ends one below and is finished on a copy), on an open one (boundary
-// collapses can hit the target exactly), and with VG weights.
+// targets (the level ends one below, taking its deferred collapse in place), on an open one
+// (boundary collapses can hit the target exactly; levels are finished on a copy), and with
+// VG weights.
 void expect_levels_equal_separate_runs(const Mesh& m, const SimplifyOptions& base,
                                        const std::vector<std::size_t>& targets) {
   const std::vector<Simplified> levels = simplify_levels(m, base, targets);
