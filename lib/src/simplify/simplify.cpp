@@ -255,9 +255,10 @@ class CollapseEngine {
     Lane& lane = serial_;
     while ((first != nullptr || !lane.heap.empty()) && faces_alive_ > target) {
       // Once a collapse is deferred, one face above the target, only a collapse that removes
-      // one face (of an open-boundary edge, whose ends both carry kBoundary: collapses make no
-      // new boundary edges) can still be performed; until it is, none is, so the deferred
-      // entry stays legal. Skipping the rest changes nothing; on a closed mesh nothing is
+      // one face (of an edge with one face, whose ends both carry kBoundary: classify flags
+      // them, a collapse ORs v1's flag into v0, and an edge it merges keeps (a-1)+(b-1) >= 2
+      // faces unless a side already had one) can still be performed; until it is, none is,
+      // so the deferred entry stays legal. Skipping the rest changes nothing; on a closed mesh nothing is
       // left to find, and the queue is left as it is. (Scanning the rest of the queue cost a
       // closed mesh a fifth of its serial loop: 122k entries prepared and tested on the
       // dragon at 10%.)
