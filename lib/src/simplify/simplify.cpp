@@ -258,8 +258,8 @@ class CollapseEngine {
       // one face (of an edge with one face, whose ends both carry kBoundary: classify flags
       // them, a collapse ORs v1's flag into v0, and an edge it merges keeps (a-1)+(b-1) >= 2
       // faces unless a side already had one) can still be performed; until it is, none is,
-      // so the deferred entry stays legal. Skipping the rest changes nothing; on a closed mesh nothing is
-      // left to find, and the queue is left as it is. (Scanning the rest of the queue cost a
+      // so the deferred entry stays legal. Skipping the rest changes nothing; on a closed
+      // mesh nothing is left to find, and the queue is left as it is. (Scanning the rest of the queue cost a
       // closed mesh a fifth of its serial loop: 122k entries prepared and tested on the
       // dragon at 10%.)
       if (!deferred.empty() && !has_boundary_) break;
@@ -460,16 +460,16 @@ class CollapseEngine {
     return len > 0 ? n / len : Vec3{};
   }
 
-  // Locks vertices the collapse rules cannot handle (edges with 3+ faces, misoriented
-  // edges, several fans, a frozen boundary) and adds boundary planes. Ranges of vertices are
-  // classified in parallel (each writes only its own vertices' flags); the boundary edges
-  // they find are planed afterwards in vertex order, so every quadric sums the same planes in
-  // the same order for any thread count.
   struct BoundaryEdge {
     std::uint32_t face;
     VertexIndex a, b;
   };
 
+  // Locks vertices the collapse rules cannot handle (edges with 3+ faces, misoriented
+  // edges, several fans, a frozen boundary) and adds boundary planes. Ranges of vertices are
+  // classified in parallel (each writes only its own vertices' flags); the boundary edges
+  // they find are planed afterwards in vertex order, so every quadric sums the same planes in
+  // the same order for any thread count.
   void classify_vertices(const SimplifyOptions& options, unsigned workers) {
     const std::size_t nv = positions_.size(), ranges = (nv + kSetupRange - 1) / kSetupRange;
     std::vector<std::vector<BoundaryEdge>> boundary_edges(ranges);
