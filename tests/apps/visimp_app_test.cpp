@@ -188,6 +188,26 @@ TEST_F(App, AMissingGlContextIsABackendErrorNotACrash) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/v.ply"));
 }
 
+TEST_F(App, OnlyTheOsmesaBackendLoadsMesa) {
+  // libOSMesa (and Mesa's LLVM behind it) cost every process ~65 ms of relocations at start-up:
+  // it is opened when the osmesa backend is first used, never by a command that does not
+  // render with GL. glibc's loader lists every object it maps under LD_DEBUG=files.
+  ::setenv("LD_DEBUG", "files", 1);
+  const AppRun info = run("info " + bunny, dir);
+  const AppRun simplify = run("simplify " + bunny + " " + dir + "/s.ply --ratio 0.5", dir);
+  const AppRun raster = run("visibility " + bunny + " " + dir + "/r.ply --cameras 6 --resolution 64", dir);
+  const AppRun osmesa =
+      run("visibility " + bunny + " " + dir + "/o.ply --backend osmesa --cameras 6 --resolution 64", dir);
+  ::unsetenv("LD_DEBUG");
+  for (const AppRun* r : {&info, &simplify, &raster}) {
+    EXPECT_EQ(r->code, 0);
+    EXPECT_EQ(r->err.find("libOSMesa"), std::string::npos) << r->err.substr(0, 2000);
+    EXPECT_EQ(r->err.find("libLLVM"), std::string::npos);
+  }
+  EXPECT_NE(osmesa.err.find("libOSMesa"), std::string::npos) << osmesa.err.substr(0, 2000);  // the check can see it
+  EXPECT_EQ(osmesa.code, 0);
+}
+
 TEST_F(App, NothingToSimplifyExitsOne) {
   const std::string empty = dir + "/vertices_only.ply";
   Mesh m;

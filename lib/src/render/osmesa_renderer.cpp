@@ -2,11 +2,18 @@
 // vertex shader computes the same projection as project_vertices(), GL's window
 // transform maps NDC x,y to pixels with centres at i + 0.5, and GL_LESS keeps the first
 // of equal depths like the raster backend.
+//
+// libOSMesa is opened at the backend's first use, not linked: it brings Mesa's LLVM (some
+// 400,000 relocations), which cost every visimp process ~65 ms of start-up, `visimp --help`
+// and `visimp info` included, whether or not they rendered with GL. The headers still give
+// the prototypes (for the pointers' types) and constants; nothing links libOSMesa, so the
+// linker refuses a call that bypasses the table below.
 #define GL_GLEXT_PROTOTYPES 1
 #include "visimp/render/osmesa_renderer.h"
 
 #include <GL/osmesa.h>
 #include <GL/glcorearb.h>
+#include <dlfcn.h>
 #include <malloc.h>
 
 #include <mutex>
@@ -16,8 +23,97 @@
 
 #include "visimp/core/errors.h"
 
+#ifndef VISIMP_OSMESA_LIBRARY
+#define VISIMP_OSMESA_LIBRARY "libOSMesa.so.8"  // the soname since Mesa 7; CMake sets the found one
+#endif
+
 namespace visimp {
 namespace {
+
+// Every GL entry point the backend calls, by its name without "gl".
+#define VISIMP_GL_FUNCTIONS(X) \
+  X(AttachShader)              \
+  X(BindBuffer)                \
+  X(BindFramebuffer)           \
+  X(BindRenderbuffer)          \
+  X(BindVertexArray)           \
+  X(BufferData)                \
+  X(CheckFramebufferStatus)    \
+  X(ClearBufferfv)             \
+  X(ClearBufferuiv)            \
+  X(CompileShader)             \
+  X(CreateProgram)             \
+  X(CreateShader)              \
+  X(CullFace)                  \
+  X(DepthFunc)                 \
+  X(Disable)                   \
+  X(DrawArrays)                \
+  X(Enable)                    \
+  X(EnableVertexAttribArray)   \
+  X(FramebufferRenderbuffer)   \
+  X(FrontFace)                 \
+  X(GenBuffers)                \
+  X(GenFramebuffers)           \
+  X(GenRenderbuffers)          \
+  X(GenVertexArrays)           \
+  X(GetError)                  \
+  X(GetProgramiv)              \
+  X(GetShaderInfoLog)          \
+  X(GetShaderiv)               \
+  X(GetUniformLocation)        \
+  X(LinkProgram)               \
+  X(PixelStorei)               \
+  X(ReadPixels)                \
+  X(RenderbufferStorage)       \
+  X(ShaderSource)              \
+  X(Uniform1f)                 \
+  X(Uniform3f)                 \
+  X(UseProgram)                \
+  X(VertexAttribIPointer)      \
+  X(VertexAttribPointer)       \
+  X(Viewport)
+
+// libOSMesa's entry points, resolved once per process. The library stays loaded for the
+// process's life (llvmpipe's threads and caches outlive any one renderer).
+struct OsmesaApi {
+  decltype(&::OSMesaCreateContextAttribs) CreateContextAttribs = nullptr;
+  decltype(&::OSMesaDestroyContext) DestroyContext = nullptr;
+  decltype(&::OSMesaMakeCurrent) MakeCurrent = nullptr;
+#define VISIMP_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
+  VISIMP_GL_FUNCTIONS(VISIMP_GL_MEMBER)
+#undef VISIMP_GL_MEMBER
+};
+
+template <class Function>
+void resolve(void* library, const char* symbol, Function& function) {
+  function = reinterpret_cast<Function>(dlsym(library, symbol));
+  if (function == nullptr) {
+    throw BackendError(std::string("osmesa: ") + VISIMP_OSMESA_LIBRARY + " has no " + symbol);
+  }
+}
+
+OsmesaApi load_osmesa() {
+  void* library = dlopen(VISIMP_OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  if (library == nullptr) {
+    const char* why = dlerror();
+    throw BackendError(std::string("osmesa: cannot load ") + VISIMP_OSMESA_LIBRARY + " (Debian: libosmesa6): " +
+                       (why != nullptr ? why : "unknown error") + "; the raster backend needs no GL");
+  }
+  OsmesaApi api;
+  resolve(library, "OSMesaCreateContextAttribs", api.CreateContextAttribs);
+  resolve(library, "OSMesaDestroyContext", api.DestroyContext);
+  resolve(library, "OSMesaMakeCurrent", api.MakeCurrent);
+#define VISIMP_GL_RESOLVE(name) resolve(library, "gl" #name, api.name);
+  VISIMP_GL_FUNCTIONS(VISIMP_GL_RESOLVE)
+#undef VISIMP_GL_RESOLVE
+  return api;
+}
+
+// Loads on the first call; a failed load throws and is tried again on the next call.
+const OsmesaApi& osmesa() {
+  static const OsmesaApi api = load_osmesa();
+  return api;
+}
 
 constexpr const char* kVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 position;
@@ -56,14 +152,15 @@ constexpr int kContextAttributes[] = {OSMESA_FORMAT,
                                       0};
 
 GLuint compile(GLenum type, const char* source) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
+  const OsmesaApi& gl = osmesa();
+  const GLuint shader = gl.CreateShader(type);
+  gl.ShaderSource(shader, 1, &source, nullptr);
+  gl.CompileShader(shader);
   GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
     char log[1024] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
     throw BackendError(std::string("osmesa: shader does not compile: ") + log);
   }
   return shader;
@@ -73,35 +170,35 @@ GLuint compile(GLenum type, const char* source) {
 class GlWorker {
  public:
   GlWorker(const RenderScene& scene, int resolution) : resolution_(resolution), dummy_(4, 0) {
-    context_ = OSMesaCreateContextAttribs(kContextAttributes, nullptr);
+    context_ = gl.CreateContextAttribs(kContextAttributes, nullptr);
     if (context_ == nullptr) throw BackendError(kNoContext);
     make_current();
 
-    const GLuint program = glCreateProgram();
-    glAttachShader(program, compile(GL_VERTEX_SHADER, kVertexShader));
-    glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragmentShader));
-    glLinkProgram(program);
+    const GLuint program = gl.CreateProgram();
+    gl.AttachShader(program, compile(GL_VERTEX_SHADER, kVertexShader));
+    gl.AttachShader(program, compile(GL_FRAGMENT_SHADER, kFragmentShader));
+    gl.LinkProgram(program);
     GLint ok = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) throw BackendError("osmesa: shader program does not link");
-    glUseProgram(program);
-    right_ = glGetUniformLocation(program, "right");
-    up_ = glGetUniformLocation(program, "up");
-    direction_ = glGetUniformLocation(program, "direction");
-    glUniform1f(glGetUniformLocation(program, "inv_radius"), static_cast<float>(1.0 / scene.radius));
+    gl.UseProgram(program);
+    right_ = gl.GetUniformLocation(program, "right");
+    up_ = gl.GetUniformLocation(program, "up");
+    direction_ = gl.GetUniformLocation(program, "direction");
+    gl.Uniform1f(gl.GetUniformLocation(program, "inv_radius"), static_cast<float>(1.0 / scene.radius));
 
     GLuint buffers[2];
-    glGenRenderbuffers(2, buffers);
+    gl.GenRenderbuffers(2, buffers);
     GLuint framebuffer;
-    glGenFramebuffers(1, &framebuffer);
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glBindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, resolution, resolution);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
-    glBindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, resolution, resolution);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    gl.GenFramebuffers(1, &framebuffer);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, resolution, resolution);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, resolution, resolution);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
+    if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       throw std::runtime_error("osmesa: R32UI + DEPTH32F framebuffer is not complete");
     }
 
@@ -118,31 +215,31 @@ class GlWorker {
     }
     vertex_count_ = static_cast<GLsizei>(ids.size());
     GLuint vao, vbo[2];
-    glGenVertexArrays(1, &vao);
-    glBindVertexArray(vao);
-    glGenBuffers(2, vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo[0]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(positions.size() * sizeof(float)), positions.data(),
-                 GL_STATIC_DRAW);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(0);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo[1]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(GLuint)), ids.data(), GL_STATIC_DRAW);
-    glVertexAttribIPointer(1, 1, GL_UNSIGNED_INT, 0, nullptr);
-    glEnableVertexAttribArray(1);
+    gl.GenVertexArrays(1, &vao);
+    gl.BindVertexArray(vao);
+    gl.GenBuffers(2, vbo);
+    gl.BindBuffer(GL_ARRAY_BUFFER, vbo[0]);
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(positions.size() * sizeof(float)), positions.data(),
+                  GL_STATIC_DRAW);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, vbo[1]);
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(GLuint)), ids.data(), GL_STATIC_DRAW);
+    gl.VertexAttribIPointer(1, 1, GL_UNSIGNED_INT, 0, nullptr);
+    gl.EnableVertexAttribArray(1);
 
-    glViewport(0, 0, resolution, resolution);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glFrontFace(GL_CCW);
-    glCullFace(GL_BACK);
+    gl.Viewport(0, 0, resolution, resolution);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.FrontFace(GL_CCW);
+    gl.CullFace(GL_BACK);
     culled_vertex_count_ = static_cast<GLsizei>(3 * scene.culled_faces);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    if (glGetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while setting up");
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (gl.GetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while setting up");
   }
 
   ~GlWorker() {
-    if (context_ != nullptr) OSMesaDestroyContext(context_);
+    if (context_ != nullptr) gl.DestroyContext(context_);
   }
   GlWorker(const GlWorker&) = delete;
   GlWorker& operator=(const GlWorker&) = delete;
@@ -150,39 +247,40 @@ class GlWorker {
   void draw(Frame& frame) {
     make_current();
     const OrthoView& v = frame.view;
-    glUniform3f(right_, static_cast<float>(v.right.x), static_cast<float>(v.right.y), static_cast<float>(v.right.z));
-    glUniform3f(up_, static_cast<float>(v.up.x), static_cast<float>(v.up.y), static_cast<float>(v.up.z));
-    glUniform3f(direction_, static_cast<float>(v.direction.x), static_cast<float>(v.direction.y),
-                static_cast<float>(v.direction.z));
+    gl.Uniform3f(right_, static_cast<float>(v.right.x), static_cast<float>(v.right.y), static_cast<float>(v.right.z));
+    gl.Uniform3f(up_, static_cast<float>(v.up.x), static_cast<float>(v.up.y), static_cast<float>(v.up.z));
+    gl.Uniform3f(direction_, static_cast<float>(v.direction.x), static_cast<float>(v.direction.y),
+                 static_cast<float>(v.direction.z));
     const GLuint zero[4] = {0, 0, 0, 0};
     const GLfloat far = 1.0f;
-    glClearBufferuiv(GL_COLOR, 0, zero);
-    glClearBufferfv(GL_DEPTH, 0, &far);
+    gl.ClearBufferuiv(GL_COLOR, 0, zero);
+    gl.ClearBufferfv(GL_DEPTH, 0, &far);
     // Faces of closed outward surfaces first, culled; then the ones drawn from both sides.
     if (culled_vertex_count_ > 0) {
-      glEnable(GL_CULL_FACE);
-      glDrawArrays(GL_TRIANGLES, 0, culled_vertex_count_);
-      glDisable(GL_CULL_FACE);
+      gl.Enable(GL_CULL_FACE);
+      gl.DrawArrays(GL_TRIANGLES, 0, culled_vertex_count_);
+      gl.Disable(GL_CULL_FACE);
     }
     if (vertex_count_ > culled_vertex_count_) {
-      glDrawArrays(GL_TRIANGLES, culled_vertex_count_, vertex_count_ - culled_vertex_count_);
+      gl.DrawArrays(GL_TRIANGLES, culled_vertex_count_, vertex_count_ - culled_vertex_count_);
     }
     const std::size_t pixels = static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_);
     frame.ids.resize(pixels);
     frame.depth.resize(pixels);
-    glReadPixels(0, 0, resolution_, resolution_, GL_RED_INTEGER, GL_UNSIGNED_INT, frame.ids.data());
-    glReadPixels(0, 0, resolution_, resolution_, GL_DEPTH_COMPONENT, GL_FLOAT, frame.depth.data());
-    if (glGetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while rendering");
+    gl.ReadPixels(0, 0, resolution_, resolution_, GL_RED_INTEGER, GL_UNSIGNED_INT, frame.ids.data());
+    gl.ReadPixels(0, 0, resolution_, resolution_, GL_DEPTH_COMPONENT, GL_FLOAT, frame.depth.data());
+    if (gl.GetError() != GL_NO_ERROR) throw std::runtime_error("osmesa: GL error while rendering");
   }
 
  private:
   void make_current() {
     // The context renders into the FBO; OSMesa still wants a buffer to bind to.
-    if (!OSMesaMakeCurrent(context_, dummy_.data(), GL_UNSIGNED_BYTE, 1, 1)) {
+    if (!gl.MakeCurrent(context_, dummy_.data(), GL_UNSIGNED_BYTE, 1, 1)) {
       throw std::runtime_error("osmesa: cannot make the context current");
     }
   }
 
+  const OsmesaApi& gl = osmesa();
   int resolution_;
   std::vector<unsigned char> dummy_;
   OSMesaContext context_ = nullptr;
@@ -196,9 +294,10 @@ class OsmesaRenderer final : public Renderer {
   explicit OsmesaRenderer(const RenderOptions& options) : options_(options) {
     check_render_options(options);
     // Fail here, before any work, rather than on the first frame after a long refinement.
-    const OSMesaContext probe = OSMesaCreateContextAttribs(kContextAttributes, nullptr);
+    const OsmesaApi& gl = osmesa();
+    const OSMesaContext probe = gl.CreateContextAttribs(kContextAttributes, nullptr);
     if (probe == nullptr) throw BackendError(kNoContext);
-    OSMesaDestroyContext(probe);
+    gl.DestroyContext(probe);
   }
 
   std::string name() const override { return "osmesa"; }
@@ -206,13 +305,13 @@ class OsmesaRenderer final : public Renderer {
 
   void render(const RenderScene& scene, const CameraSet& cameras, std::size_t first, std::size_t last,
               FrameConsumer& consumer, RenderObserver* observer) override {
-    std::vector<std::unique_ptr<GlWorker>> gl;
+    std::vector<std::unique_ptr<GlWorker>> contexts;
     render_frames(
-        scene, cameras, first, last, options_, consumer, observer, [&](unsigned workers) { gl.resize(workers); },
+        scene, cameras, first, last, options_, consumer, observer, [&](unsigned workers) { contexts.resize(workers); },
         [&](unsigned worker, Frame& frame) {
           // Each context is created on, and used by, the one thread of its worker.
-          if (!gl[worker]) gl[worker] = std::make_unique<GlWorker>(scene, options_.resolution);
-          gl[worker]->draw(frame);
+          if (!contexts[worker]) contexts[worker] = std::make_unique<GlWorker>(scene, options_.resolution);
+          contexts[worker]->draw(frame);
           project_vertices(scene, frame.view, frame.vertices);
         });
   }
