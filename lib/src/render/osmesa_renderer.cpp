@@ -3,17 +3,15 @@
 // transform maps NDC x,y to pixels with centres at i + 0.5, and GL_LESS keeps the first
 // of equal depths like the raster backend.
 //
-// libOSMesa is opened at the backend's first use, not linked: it brings Mesa's LLVM (some
-// 400,000 relocations), which cost every visimp process ~65 ms of start-up, `visimp --help`
-// and `visimp info` included, whether or not they rendered with GL. The headers still give
-// the prototypes (for the pointers' types) and constants; nothing links libOSMesa, so the
-// linker refuses a call that bypasses the table below.
+// libOSMesa is opened at the backend's first use, not linked (core/shared_library.h: Mesa's
+// LLVM cost every visimp process ~70 ms of start-up). The headers still give the prototypes
+// (for the pointers' types) and the constants; nothing links libOSMesa, so the linker refuses a
+// call that bypasses the table below.
 #define GL_GLEXT_PROTOTYPES 1
 #include "visimp/render/osmesa_renderer.h"
 
 #include <GL/osmesa.h>
 #include <GL/glcorearb.h>
-#include <dlfcn.h>
 #include <malloc.h>
 
 #include <mutex>
@@ -21,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "../core/shared_library.h"
 #include "visimp/core/errors.h"
 
 #ifndef VISIMP_OSMESA_LIBRARY
@@ -73,8 +72,7 @@ namespace {
   X(VertexAttribPointer)       \
   X(Viewport)
 
-// libOSMesa's entry points, resolved once per process. The library stays loaded for the
-// process's life (llvmpipe's threads and caches outlive any one renderer).
+// libOSMesa's entry points, resolved once per process.
 struct OsmesaApi {
   decltype(&::OSMesaCreateContextAttribs) CreateContextAttribs = nullptr;
   decltype(&::OSMesaDestroyContext) DestroyContext = nullptr;
@@ -84,29 +82,20 @@ struct OsmesaApi {
 #undef VISIMP_GL_MEMBER
 };
 
-template <class Function>
-void resolve(void* library, const char* symbol, Function& function) {
-  function = reinterpret_cast<Function>(dlsym(library, symbol));
-  if (function == nullptr) {
-    throw BackendError(std::string("osmesa: ") + VISIMP_OSMESA_LIBRARY + " has no " + symbol);
-  }
-}
-
 OsmesaApi load_osmesa() {
-  void* library = dlopen(VISIMP_OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-  if (library == nullptr) {
-    const char* why = dlerror();
-    throw BackendError(std::string("osmesa: cannot load ") + VISIMP_OSMESA_LIBRARY + " (Debian: libosmesa6): " +
-                       (why != nullptr ? why : "unknown error") + "; the raster backend needs no GL");
-  }
-  OsmesaApi api;
-  resolve(library, "OSMesaCreateContextAttribs", api.CreateContextAttribs);
-  resolve(library, "OSMesaDestroyContext", api.DestroyContext);
-  resolve(library, "OSMesaMakeCurrent", api.MakeCurrent);
-#define VISIMP_GL_RESOLVE(name) resolve(library, "gl" #name, api.name);
-  VISIMP_GL_FUNCTIONS(VISIMP_GL_RESOLVE)
+  try {
+    const detail::SharedLibrary library(VISIMP_OSMESA_LIBRARY, "libosmesa6");
+    OsmesaApi api;
+    library.resolve("OSMesaCreateContextAttribs", api.CreateContextAttribs);
+    library.resolve("OSMesaDestroyContext", api.DestroyContext);
+    library.resolve("OSMesaMakeCurrent", api.MakeCurrent);
+#define VISIMP_GL_RESOLVE(name) library.resolve("gl" #name, api.name);
+    VISIMP_GL_FUNCTIONS(VISIMP_GL_RESOLVE)
 #undef VISIMP_GL_RESOLVE
-  return api;
+    return api;
+  } catch (const BackendError& e) {
+    throw BackendError(std::string("osmesa: ") + e.what() + "; the raster backend needs no GL");
+  }
 }
 
 // Loads on the first call; a failed load throws and is tried again on the next call.
