@@ -244,8 +244,8 @@ py::object simplify_py(const py::handle& vertices, const py::handle& faces, cons
                        const std::string& method, const py::object& visibility, const py::object& levels,
                        double max_error, const std::string& quadric_weights, double boundary_weight,
                        bool freeze_boundary, double max_normal_change_deg,
-                       bool prevent_folds, double visibility_exponent, bool crease_visibility, const py::object& cameras,
-                       int resolution, long long threads, const std::string& backend) {
+                       bool prevent_folds, double visibility_exponent, bool crease_visibility, bool serial_collapses,
+                       const py::object& cameras, int resolution, long long threads, const std::string& backend) {
   const Mesh mesh = mesh_from_arrays(vertices, faces, "");
   SimplifyOptions options;
   set_target(options, target);
@@ -258,6 +258,7 @@ py::object simplify_py(const py::handle& vertices, const py::handle& faces, cons
   options.prevent_folds = prevent_folds;
   options.visibility_exponent = visibility_exponent;
   options.crease_visibility = crease_visibility;
+  options.serial_collapses = serial_collapses;
 
   std::vector<std::size_t> targets;
   const bool many = !levels.is_none();
@@ -459,11 +460,12 @@ PYBIND11_MODULE(visimp, m) {
         "quadric_weights"_a = "area", "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
         "max_normal_change_deg"_a = simp.max_normal_change_deg, "prevent_folds"_a = simp.prevent_folds,
         "visibility_exponent"_a = simp.visibility_exponent, "crease_visibility"_a = simp.crease_visibility,
-        "cameras"_a = 258, "resolution"_a = render.resolution, "threads"_a = 0, "backend"_a = "raster",
+        "serial_collapses"_a = simp.serial_collapses, "cameras"_a = 258, "resolution"_a = render.resolution,
+        "threads"_a = 0, "backend"_a = "raster",
         "Quadric edge collapse. target: face count (int) or fraction (float in (0, 1]). method 'qb' (plain "
         "quadrics) or 'vg' (visibility-guided; V per face from `visibility`, or measured with cameras/resolution). "
         "Returns (V, F, result); with levels (a list of face counts, or a count of log-spaced levels) a list of them, "
-        "all from one collapse run.");
+        "all from one collapse sequence (each equals a run to its count with serial_collapses=True).");
   m.def("metro", &metro_py, "A"_a, "B"_a, py::kw_only(), "samples"_a = metro.samples, "density"_a = metro.density,
         "sampling"_a = "random", "seed"_a = metro.seed, "threads"_a = 0, "edge_samples"_a = metro.edge_samples,
         "histogram_bins"_a = metro.histogram_bins, "visibility"_a = py::none(),

@@ -162,7 +162,8 @@ def test_levels_equal_single_runs(bunny):
     levels = visimp.simplify(V, F, levels=[1000, 300])
     assert [len(l[1]) for l in levels] == [1000, 300]
     for (Vl, Fl, rl), target in zip(levels, [1000, 300]):
-        Vs, Fs, _ = visimp.simplify(V, F, target=target)
+        Vs, Fs, rs = visimp.simplify(V, F, target=target, serial_collapses=True)
+        assert rs["parallel_collapses"] == 0
         np.testing.assert_array_equal(Fl, Fs)
         np.testing.assert_array_equal(Vl, Vs)
     assert len(visimp.simplify(V, F, target=0.05, levels=3)) == 3

@@ -187,10 +187,10 @@ TEST(VisibilityGuided, RejectsMissingOrOutOfRangeVisibility) {
   EXPECT_THROW(simplify(m, o), UsageError);
 }
 
-// Every level of one run equals a separate run to its count: on a closed mesh at odd
-// targets (the level ends one below, taking its deferred collapse in place), on an open one
-// (boundary collapses can hit the target exactly; levels are finished on a copy), and with
-// VG weights.
+// Every level of one run equals a separate run to its count with serial_collapses (one
+// collapse sequence, as the levels run): on a closed mesh at odd targets (the level ends one
+// below, taking its deferred collapse in place), on an open one (boundary collapses can hit
+// the target exactly; levels are finished on a copy), and with VG weights.
 void expect_levels_equal_separate_runs(const Mesh& m, const SimplifyOptions& base,
                                        const std::vector<std::size_t>& targets) {
   const std::vector<Simplified> levels = simplify_levels(m, base, targets);
@@ -198,6 +198,7 @@ void expect_levels_equal_separate_runs(const Mesh& m, const SimplifyOptions& bas
   for (std::size_t i = 0; i < targets.size(); ++i) {
     SimplifyOptions o = base;
     o.target_faces = targets[i];
+    o.serial_collapses = true;
     const Simplified separate = simplify(m, o);
     SCOPED_TRACE("target " + std::to_string(targets[i]));
     expect_identical(levels[i].mesh, separate.mesh);
@@ -278,14 +279,24 @@ TEST(SimplifyParallel, AnOpenMeshIsTheSameForEveryThreadCount) {
   expect_same_with_more_threads(m, o, one);
 }
 
-TEST(SimplifyParallel, LevelsOnBothSidesOfThePhaseEqualSeparateRuns) {
-  // 50% is above the phase's first rung (3/10 of the input) and runs without it; 30% and 20%
-  // share the first rung's phase, 10% the second's (12% and below), 9001 faces (2.7%) and
-  // 3000 the deepest one (5% and below).
+TEST(SimplifyParallel, LevelsAreOneSerialSequenceWhereSingleTargetsUseThePhase) {
+  // 50% is above the phase's first rung (3/10 of the input); simplify() runs 30% and 20% under
+  // the first rung's phase, 10% under the second's (12% and below), 9001 faces (2.7%) and 3000
+  // under the deepest one (5% and below). Levels run none of them: one sequence for all.
   const Mesh m = bumpy_sphere();
-  expect_levels_equal_separate_runs(
-      m, SimplifyOptions{},
-      {m.num_faces() / 2, m.num_faces() * 3 / 10, m.num_faces() / 5, m.num_faces() / 10, 9001, 3000});
+  const std::vector<std::size_t> targets{m.num_faces() / 2, m.num_faces() * 3 / 10, m.num_faces() / 5,
+                                         m.num_faces() / 10, 9001, 3000};
+  expect_levels_equal_separate_runs(m, SimplifyOptions{}, targets);
+  const std::vector<Simplified> levels = simplify_levels(m, SimplifyOptions{}, targets);
+  for (const Simplified& level : levels) {
+    EXPECT_EQ(level.result.parallel_collapses, 0u);
+    EXPECT_EQ(level.result.stage_seconds.parallel_phase, 0.0);
+  }
+  SimplifyOptions phased;
+  phased.target_faces = 9001;
+  const Simplified with_phase = simplify(m, phased);
+  EXPECT_GT(with_phase.result.parallel_collapses, 0u);
+  EXPECT_NE(with_phase.mesh.faces, levels[4].mesh.faces);  // the phase's own sequence: another mesh
   SimplifyOptions o;
   o.target_faces = m.num_faces() / 2;
   const SimplifyResult serial = simplify(m, o).result;

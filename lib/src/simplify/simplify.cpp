@@ -49,6 +49,8 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
                   "reject collapses that fold a face back onto its neighbour (thin plates keep their rims)"),
       switch_spec("--crease-visibility", o.crease_visibility,
                   "VG: a face meeting a more visible face at a crease (> 30 deg) takes its V"),
+      switch_spec("--serial-collapses", o.serial_collapses,
+                  "one collapse sequence, no parallel phase (what --targets/--levels run; equals their level)"),
   };
 }
 
@@ -1163,7 +1165,8 @@ std::size_t resolve_target(const Mesh& input, const SimplifyOptions& options) {
 // faces, so it cannot pass the target). The thread count plays no part: one thread runs the
 // same phase.
 int parallel_phase_depth(const Mesh& input, const SimplifyOptions& options, std::size_t target) {
-  if (options.collapse_cost != nullptr || input.num_vertices() < 2 * kPartitionVertices) return 0;
+  if (options.serial_collapses || options.collapse_cost != nullptr || input.num_vertices() < 2 * kPartitionVertices)
+    return 0;
   std::size_t alive = 0;  // the faces the engine starts with (repeated indices dropped)
   for (const Face& f : input.faces) alive += f[0] != f[1] && f[1] != f[2] && f[0] != f[2];
   int depth = 0;
@@ -1264,29 +1267,24 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
   require_valid(input, "simplify input");
   check_visibility(input, options);
 
-  // Largest target first; equal targets share one snapshot. Targets under the same rung of
-  // the parallel phase share one engine that runs that phase first (the targets above every
-  // rung one without it), so every level is what simplify() to its target gives.
-  std::vector<std::size_t> order(targets.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return targets[x] > targets[y]; });
-  std::vector<std::size_t> levels_at_depth[kDeepestPhase + 1];
-  for (std::size_t i : order) levels_at_depth[parallel_phase_depth(input, options, targets[i])].push_back(i);
+  // Largest target first; equal targets share one snapshot. One engine, one collapse sequence
+  // without the parallel phase, snapshotted at every target: each level is what simplify()
+  // with serial_collapses gives. (An engine per rung of the phase, each starting over from
+  // the input, made compare's seven levels on the dragon 1.7x the wall time and 2.5x the CPU
+  // of one sequence, with more image error at most levels: docs/simplify.md.)
+  std::vector<std::size_t> levels(targets.size());
+  for (std::size_t i = 0; i < levels.size(); ++i) levels[i] = i;
+  std::stable_sort(levels.begin(), levels.end(), [&](std::size_t x, std::size_t y) { return targets[x] > targets[y]; });
 
   std::vector<Simplified> out(targets.size());
-  auto run_levels = [&](const std::vector<std::size_t>& levels, int phase_depth) {
-    if (levels.empty()) return;
+  {
     StageClock clock;
-    CollapseEngine engine(input, options, phase_depth, options.threads);
+    CollapseEngine engine(input, options, 0, options.threads);
     engine.set_observer(observer, targets[levels.back()]);
     SimplifyResult running = start_result(input);
     running.locked_vertices = engine.locked_vertices();
     running.dropped_faces = engine.dropped_repeated_index_faces();
     running.stage_seconds.setup = clock.lap();
-    if (phase_depth > 0) {
-      engine.run_parallel_phase(options.max_error, options.threads, running);
-      running.stage_seconds.parallel_phase = clock.lap();
-    }
     std::vector<HeapEntry> deferred;
     std::optional<HeapEntry> pending;  // where the previous level stopped, taken first by the next
     for (std::size_t k = 0; k < levels.size(); ++k) {
@@ -1336,8 +1334,7 @@ std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions
       level.result.stage_seconds.extract = clock.lap();
       finish_result(level, start);
     }
-  };
-  for (int depth = 0; depth <= kDeepestPhase; ++depth) run_levels(levels_at_depth[depth], depth);
+  }
   if (observer) observer->on_progress(1.0);
   return out;
 }

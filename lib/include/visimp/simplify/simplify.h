@@ -104,6 +104,10 @@ struct SimplifyOptions {
   /// Worker threads (0: one per hardware thread). The result is the same for every count: the
   /// parallel phase's partitions do not depend on it (docs/simplify.md, "Two cores").
   unsigned threads = 0;
+  /// One collapse sequence in queue order, without the parallel phase (set-up still uses the
+  /// threads): what simplify_levels() runs for every level, so simplify() with this set equals
+  /// the level at its target. Slower on big meshes at low targets; as good or lower error.
+  bool serial_collapses = false;
 };
 
 /// The command-line flags of SimplifyOptions, bound to `options` (help and defaults).
