@@ -61,12 +61,15 @@ int run_compare(const Args& args) {
                          "exceeds their spread, 0..100"));
   parser.add(describe_options(sampling));
   parser.add(describe_options(options.visibility));
-  {  // the levels set the face counts: --target and --ratio would be silently ignored
+  {  // the levels set the face counts and always run one serial sequence: --target, --ratio
+     // and --serial-collapses would be silently ignored
     std::vector<OptionSpec> simplify_flags = describe_options(options.simplify);
-    simplify_flags.erase(
-        std::remove_if(simplify_flags.begin(), simplify_flags.end(),
-                       [](const OptionSpec& o) { return o.flag == "--target" || o.flag == "--ratio"; }),
-        simplify_flags.end());
+    simplify_flags.erase(std::remove_if(simplify_flags.begin(), simplify_flags.end(),
+                                        [](const OptionSpec& o) {
+                                          return o.flag == "--target" || o.flag == "--ratio" ||
+                                                 o.flag == "--serial-collapses";
+                                        }),
+                         simplify_flags.end());
     parser.add(std::move(simplify_flags));
   }
   parser.add(option_spec("--format", "F", stream.format, "format of IN when it is '-': ply, obj, off or stl"));

@@ -169,6 +169,20 @@ def test_levels_equal_single_runs(bunny):
     assert len(visimp.simplify(V, F, target=0.05, levels=3)) == 3
 
 
+def test_serial_collapses_keeps_the_parallel_phase_out():
+    # A bumpy 300 x 300 grid: 90,000 vertices, enough for the phase's two partitions.
+    n = 300
+    xs, ys = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    V = np.stack([xs.ravel(), ys.ravel(), (0.05 * np.sin(9 * xs) * np.sin(7 * ys + 1)).ravel()], axis=1)
+    v = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)[None, :]).ravel()
+    F = np.concatenate([np.stack([v, v + 1, v + n], 1), np.stack([v + 1, v + n + 1, v + n], 1)]).astype(np.int64)
+    _, _, phased = visimp.simplify(V, F, target=9000)
+    _, Fs, serial = visimp.simplify(V, F, target=9000, serial_collapses=True)
+    assert phased["parallel_collapses"] > 0
+    assert serial["parallel_collapses"] == 0
+    np.testing.assert_array_equal(visimp.simplify(V, F, levels=[9000])[0][1], Fs)
+
+
 def test_metro_equals_the_app(tmp_path, bunny):
     V, F = bunny
     V2, F2, _ = visimp.simplify(V, F, target=0.1)

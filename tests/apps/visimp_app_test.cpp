@@ -175,6 +175,9 @@ TEST_F(App, OneCommandLineGrammarEverywhere) {
   // An option a command would ignore is not offered (nor accepted).
   EXPECT_EQ(run("visibility-study --help", dir).out.find("--cameras"), std::string::npos);
   EXPECT_EQ(run("visibility-study " + bunny + " --cameras 18", dir).code, 2);
+  // compare's levels always run one serial sequence: the flag that asks for it would do nothing.
+  EXPECT_NE(run("simplify --help", dir).out.find("--serial-collapses"), std::string::npos);
+  EXPECT_EQ(run("compare --help", dir).out.find("--serial-collapses"), std::string::npos);
 }
 
 TEST_F(App, AMissingGlContextIsABackendErrorNotACrash) {

@@ -31,7 +31,10 @@ class SharedLibrary {
   template <class Function>
   void resolve(const char* symbol, Function& function) const {
     function = reinterpret_cast<Function>(dlsym(handle_, symbol));
-    if (function == nullptr) throw BackendError(std::string(soname_) + " has no " + symbol);
+    if (function == nullptr) {
+      const char* why = dlerror();
+      throw BackendError(std::string(soname_) + " has no " + symbol + (why != nullptr ? std::string(": ") + why : ""));
+    }
   }
 
  private:

@@ -1,8 +1,8 @@
 // Embree 3 behind RayCaster (see ray_caster.h). libembree3 (and TBB behind it) is opened when
 // the first RayCaster is built, not linked (core/shared_library.h): only the visibility field
 // casts rays, and linking it cost every visimp process ~6 ms of start-up. The header gives the
-// types and prototypes; nothing links libembree3, so the linker refuses a call that bypasses the
-// table below.
+// types and prototypes; nothing links libembree3, so a call that bypasses the table below is an
+// undefined symbol (the apps and tests fail to link).
 #include "visimp/render/ray_caster.h"
 
 #include <embree3/rtcore.h>

@@ -106,7 +106,8 @@ struct SimplifyOptions {
   unsigned threads = 0;
   /// One collapse sequence in queue order, without the parallel phase (set-up still uses the
   /// threads): what simplify_levels() runs for every level, so simplify() with this set equals
-  /// the level at its target. Slower on big meshes at low targets; as good or lower error.
+  /// the level at its target. Slower on big meshes at low targets; about the same or lower
+  /// error (docs/simplify.md, "Many levels in one run").
   bool serial_collapses = false;
 };
 
@@ -171,11 +172,12 @@ Simplified simplify(const Mesh& input, const SimplifyOptions& options, SimplifyO
 /// already at its target is moved, not copied. `input` is left valid but unspecified.
 Simplified simplify(Mesh&& input, const SimplifyOptions& options, SimplifyObserver* observer = nullptr);
 
-/// Many levels in one collapse run: the mesh at each face count in `targets` (any order;
-/// results in the same order). Each level equals simplify() with that target_faces, bit for
-/// bit (a level ending one face below its target is finished on a copy of the engine, so the
-/// run goes on as a single run to the next target would). options.target_* are ignored; each
-/// result's seconds are from the start of the run to that level.
+/// Many levels in one collapse sequence: the mesh at each face count in `targets` (any order;
+/// results in the same order). The sequence runs without the parallel phase: each level
+/// equals simplify() with that target_faces and serial_collapses = true, bit for bit (a level
+/// ending one face below its target is finished on a copy of the engine, so the run goes on as
+/// a single run to the next target would). options.target_* and serial_collapses are ignored;
+/// each result's seconds are from the start of the run to that level.
 std::vector<Simplified> simplify_levels(const Mesh& input, const SimplifyOptions& options,
                                         const std::vector<std::size_t>& targets, SimplifyObserver* observer = nullptr);
 
