@@ -1,9 +1,9 @@
 // Private to the library: a backend's shared library opened at its first use instead of
-// linked. OSMesa (with Mesa's LLVM behind it) and Embree (with TBB) cost every process that
-// links them tens of milliseconds of relocations at start-up, `visimp --help` and
-// `visimp info` included; opened here, only a process that renders with GL or casts rays
-// pays. The library stays loaded for the process's life (their worker threads and caches
-// outlive any one renderer), so it is never closed.
+// linked. OSMesa (with Mesa's LLVM behind it) cost every process that linked it ~65 ms of
+// relocations at start-up, `visimp --help` and `visimp info` included; opened here, only a
+// process that renders with GL pays. The library stays loaded for the process's life (its
+// worker threads and caches outlive any one renderer), so it is never closed. (Embree was
+// opened this way too and went back to being linked: lib/CMakeLists.txt says why.)
 #pragma once
 
 #include <dlfcn.h>
