@@ -7,7 +7,7 @@
 // LLVM cost every visimp process ~70 ms of start-up). The headers still give the prototypes
 // (for the pointers' types) and the constants; nothing links libOSMesa, so a call that
 // bypasses the table below is an undefined symbol (the apps and tests fail to link; test
-// App.OnlyTheCommandsThatUseThemLoadMesaAndEmbree would see a shared object pull it in).
+// App.OnlyTheOsmesaBackendLoadsMesa would see a shared object pull it in).
 #define GL_GLEXT_PROTOTYPES 1
 #include "visimp/render/osmesa_renderer.h"
 
