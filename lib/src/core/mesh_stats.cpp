@@ -16,10 +16,7 @@ bool is_degenerate(const std::vector<Vec3>& positions, const Face& f) {
 }
 
 bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double longest2 = std::max({squared_norm(b - a), squared_norm(c - b), squared_norm(a - c)});
-  // |cross| = 2·area; relative to the longest edge squared this is ~sin of the smallest
-  // angle. Below 1e-13 the normal is rounding noise in double.
-  return !(norm(cross(b - a, c - a)) > 1e-13 * longest2);
+  return is_degenerate_triangle(a, b, c, norm(cross(b - a, c - a)));
 }
 
 namespace {

@@ -54,8 +54,19 @@ Vec3 best_on_segment(const Quadric& q, const Vec3& p0, const Vec3& p1) {
 }  // namespace
 
 Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1) {
-  const Vec3 mid = (p0 + p1) * 0.5;
   const double trace = q.a00 + q.a11 + q.a22;
+  // An endpoint whose error equals the optimum up to rounding (~1e-12 of the quadric's scale)
+  // is preferred: it keeps original coordinates on flat and straight parts.
+  const double tolerance = 1e-12 * (trace + std::abs(q.c)) + 1e-300;
+  const double e0 = q.evaluate(p0), e1 = q.evaluate(p1);
+  const auto endpoint = [&] {
+    return e0 <= e1 ? Placement{p0, PlacementKind::endpoint0, e0} : Placement{p1, PlacementKind::endpoint1, e1};
+  };
+  // The optimum is never below 0, so an endpoint within the tolerance of 0 wins without the
+  // solve: most edges of a CAD part's flat faces, whose quadrics are singular.
+  if (std::min(e0, e1) <= tolerance) return endpoint();
+
+  const Vec3 mid = (p0 + p1) * 0.5;
   Placement result{mid, PlacementKind::optimal};
 
   // Cofactors of A: the closed-form inverse is adj(A)/det(A).
@@ -104,16 +115,9 @@ Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1) {
     result = {best_on_segment(q, p0, p1), PlacementKind::segment};
   }
 
-  // Prefer an endpoint whose error equals the optimum up to rounding (~1e-12 of the
-  // quadric's scale): keeps original coordinates on flat and straight parts.
   const double best = q.evaluate(result.position);
-  const double tolerance = 1e-12 * (trace + std::abs(q.c)) + 1e-300;
-  const double e0 = q.evaluate(p0), e1 = q.evaluate(p1);
-  if (std::min(e0, e1) <= best + tolerance) {
-    result = e0 <= e1 ? Placement{p0, PlacementKind::endpoint0, e0} : Placement{p1, PlacementKind::endpoint1, e1};
-  } else {
-    result.error = best;
-  }
+  if (std::min(e0, e1) <= best + tolerance) return endpoint();
+  result.error = best;
   return result;
 }
 

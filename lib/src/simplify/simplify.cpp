@@ -877,8 +877,8 @@ class CollapseEngine {
         for (int k = 0; k < 3; ++k)
           if (face[k] == p.v0 || face[k] == p.v1) corners[k] = x;
         const Vec3 n_new = cross(corners[1] - corners[0], corners[2] - corners[0]);
-        if (is_degenerate_triangle(corners[0], corners[1], corners[2])) return false;  // would create a zero-area face
         const double len_new = norm(n_new);
+        if (is_degenerate_triangle(corners[0], corners[1], corners[2], len_new)) return false;  // a zero-area face
         const double len_old = norm(n_old);
         if (len_old > 0 && dot(n_old, n_new) < cos_max_normal_change_ * len_old * len_new) return false;
         if (prevent_folds_) moved_faces.push_back({f, n_old, n_new});
@@ -962,7 +962,7 @@ class CollapseEngine {
       lane.second_ring.clear();
       for_each_neighbor(lane, w, [&](VertexIndex u) { lane.second_ring.push_back(u); });
       for (VertexIndex u : lane.second_ring)
-        if (u != v0) push_edge(lane, w, u);
+        if (u != v0 && (flags_[u] & kRejected)) push_edge(lane, w, u);
     }
   }
 

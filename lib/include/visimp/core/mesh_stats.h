@@ -3,6 +3,8 @@
 // degenerate and duplicate faces. Linear time after one sort of the edges.
 #pragma once
 
+#include <algorithm>
+
 #include <cstddef>
 
 #include "visimp/core/bounding_box.h"
@@ -40,5 +42,13 @@ bool is_degenerate(const Mesh& mesh, const Face& f);
 bool is_degenerate(const std::vector<Vec3>& positions, const Face& f);
 /// The same test on three corner positions.
 bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
+/// The same test for a caller that already has |cross(b - a, c - a)| (twice the area): the
+/// collapse filter computes it for the normal check anyway.
+inline bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c, double cross_length) {
+  const double longest2 = std::max({squared_norm(b - a), squared_norm(c - b), squared_norm(a - c)});
+  // |cross| = 2·area; relative to the longest edge squared this is ~sin of the smallest
+  // angle. Below 1e-13 the normal is rounding noise in double.
+  return !(cross_length > 1e-13 * longest2);
+}
 
 }  // namespace visimp
