@@ -14,9 +14,10 @@
 //        --vg-overhead: only the last table (VG's cost over QB once V is known)
 //        --peers-only: every table but that one (for large meshes: it runs each 27 times)
 //        --cpu-limit S: a method run past S CPU seconds is killed and reported failed (300)
-//        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply
-//          one simplify() to 10%, V from the file's face quality (a `visimp visibility` output);
-//          vg-ones: VG with V = 1. For instruction counts (vg_overhead_instructions.sh).
+//        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply [RATIO [THREADS]]
+//          one simplify() to RATIO (0.1) on THREADS threads (0: every core, the default), V from
+//          the file's face quality (a `visimp visibility` output); vg-ones: VG with V = 1. For
+//          instruction counts (vg_overhead_instructions.sh; THREADS 1 runs every lane on one thread).
 
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
@@ -30,6 +31,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -215,14 +217,27 @@ void vg_overhead(const Mesh& input, const std::string& name, double ratio, int r
   std::fflush(stdout);
 }
 
-}  // namespace
+// A whole number or a decimal, all of `text`, or a usage error naming `what`.
+double parse_number(const std::string& text, const char* what) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value))
+    throw visimp::UsageError(std::string(what) + " is not a number: '" + text + "'");
+  return value;
+}
 
 // One simplify() call, nothing else timed: callgrind counts it with
 // --toggle-collect='visimp::simplify(*' (the reading and the V set-up stay outside).
-int single_run(const std::string& mode, const std::string& path) {
+int single_run(const std::string& mode, const std::string& path, double ratio, unsigned threads) {
   const Mesh input = visimp::read_mesh(path);
   visimp::SimplifyOptions o;
-  o.target_ratio = 0.1;
+  o.target_ratio = ratio;
+  o.threads = threads;
   if (mode != "qb") {
     if (!input.has_face_quality()) {
       std::fprintf(stderr, "bench_simplify: %s has no face quality to take V from\n", path.c_str());
@@ -237,19 +252,27 @@ int single_run(const std::string& mode, const std::string& path) {
   return 0;
 }
 
+}  // namespace
+
 constexpr const char* kUsage =
     "usage: bench_simplify [--vg-overhead | --peers-only] [--cpu-limit S] [MESH ...]\n"
-    "       bench_simplify --single-run qb|vg-ones|vg MESH\n"
+    "       bench_simplify --single-run qb|vg-ones|vg MESH [RATIO [THREADS]]\n"
     "visimp QB against meshoptimizer, CGAL and OpenMesh at 10% and 1% (default: dragon, D-sub, fandisk;\n"
     "without ../shared/meshes the bundled meshes stand in, a note on stderr says which).\n";
 
 int run(const std::vector<std::string>& args) {
   if (!args.empty() && args[0] == "--single-run") {
-    if (args.size() != 3) throw visimp::UsageError("--single-run takes a mode and a mesh (see --help)");
+    if (args.size() < 3 || args.size() > 5)
+      throw visimp::UsageError("--single-run takes a mode, a mesh and optionally a ratio and a thread count (see --help)");
     const std::string& mode = args[1];
     if (mode != "qb" && mode != "vg-ones" && mode != "vg")
       throw visimp::UsageError("--single-run takes qb, vg-ones or vg, not '" + mode + "'");
-    return single_run(mode, args[2]);
+    const double ratio = args.size() > 3 ? parse_number(args[3], "--single-run's ratio") : 0.1;
+    const double threads = args.size() > 4 ? parse_number(args[4], "--single-run's thread count") : 0;
+    if (!(ratio > 0 && ratio <= 1)) throw visimp::UsageError("--single-run's ratio must be in (0, 1]");
+    if (!(threads >= 0 && threads <= 256 && threads == std::floor(threads)))
+      throw visimp::UsageError("--single-run's thread count must be a whole number from 0 to 256");
+    return single_run(mode, args[2], ratio, static_cast<unsigned>(threads));
   }
   std::vector<std::string> meshes;
   bool overhead_only = false, peers_only = false;

@@ -2,14 +2,17 @@
 # VG's overhead over QB in executed instructions: the deterministic companion of
 # `bench_simplify --vg-overhead`, whose CPU times move by several points from run to run on a
 # shared machine. For each mesh: V once with `visimp visibility` (258 cameras, 480²), then one
-# simplify() to 10% under callgrind for QB, VG with V = 1 (QB's collapse sequence: the engine's
+# simplify() to 10% on one thread under callgrind for QB, VG with V = 1 (QB's collapse sequence: the engine's
 # own cost) and VG with the real V. Only simplify() is counted (validation, set-up, collapses,
-# extraction); reading the mesh and computing V are not.
+# extraction); reading the mesh and computing V are not. One thread: --toggle-collect counts
+# only a thread with simplify() on its stack, so on two the worker's share of the parallel
+# phase went uncounted, and that share moves with scheduling (the dragon's VG with V = 1,
+# QB's own work, once counted 15.7% below QB). One thread runs the same lanes, same mesh.
 #
 # usage: bench/vg_overhead_instructions.sh [BUILD_DIR] [MESH.ply ...]
 #   BUILD_DIR: a build with the benchmarks (default build/bench, `cmake --workflow --preset bench`)
 #   meshes default to ../shared/meshes/{kicad_dsub62_male,fandisk_cad,dragon}.ply
-# needs valgrind (.ci/install-deps installs it). About 4 minutes in all, 3 of them the dragon.
+# needs valgrind (.ci/install-deps installs it). About 2 minutes in all, most of it the dragon.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build/bench}
@@ -31,7 +34,7 @@ trap 'rm -rf "$work"' EXIT
 # Instructions collected inside visimp::simplify() for one mode.
 count() {
   valgrind --tool=callgrind --toggle-collect='visimp::simplify(*' --callgrind-out-file="$work/cg.out" \
-    "$bench" --single-run "$1" "$2" >"$work/run.txt" 2>"$work/cg.err"
+    "$bench" --single-run "$1" "$2" 0.1 1 >"$work/run.txt" 2>"$work/cg.err"
   sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$work/cg.err"
 }
 

@@ -94,14 +94,15 @@ struct Placement {
 
 /// Where the edge (p0, p1) with merged quadric q should collapse to.
 ///
-/// Solves A x = -b by a rank-revealing method: a fast closed-form inverse when
-/// det(A) > 1e-3·trace(A)·(sum of its principal 2×2 minors), which guarantees
-/// cond(A) < 1e3, otherwise the eigen-
-/// decomposition of A with eigenvalues below 1e-3·λmax treated as zero, relative to the
-/// edge midpoint (Lindstrom 2000). A result farther than 2 edge lengths from the midpoint, or
-/// non-finite, falls back to the minimiser of Q on the segment. Finally an endpoint whose
-/// error is within rounding of the optimum is preferred, so flat and straight regions keep
-/// original vertex positions exactly.
+/// An endpoint whose error is within rounding (1e-12 of the quadric's scale) of 0 is returned
+/// at once: the optimum cannot be lower. Otherwise solves A x = -b: a closed-form inverse when
+/// det(A) > 1e-3·trace(A)·(sum of its principal 2×2 minors), which guarantees cond(A) < 1e3,
+/// else a damped solve relative to the edge midpoint (the minimiser of
+/// Q(x) + 1e-3·trace(A)·|x - mid|²: Lindstrom's 2000 truncated pseudo-inverse up to a factor
+/// per direction). A result farther than 2 edge lengths from the midpoint, or non-finite, falls
+/// back to the minimiser of Q on the segment. Finally an endpoint whose error is within
+/// rounding of the optimum is preferred, so flat and straight regions keep original vertex
+/// positions exactly.
 Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1);
 
 }  // namespace visimp
