@@ -31,7 +31,6 @@
 
 #include <algorithm>
 #include <cfloat>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -42,6 +41,7 @@
 
 #include "bench_main.h"
 #include "child_process.h"
+#include "visimp/core/option_table.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/metrics/surface_distance.h"
 #include "visimp/simplify/simplify.h"
@@ -217,20 +217,6 @@ void vg_overhead(const Mesh& input, const std::string& name, double ratio, int r
   std::fflush(stdout);
 }
 
-// A whole number or a decimal, all of `text`, or a usage error naming `what`.
-double parse_number(const std::string& text, const char* what) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(value))
-    throw visimp::UsageError(std::string(what) + " is not a number: '" + text + "'");
-  return value;
-}
-
 // One simplify() call, nothing else timed: callgrind counts it with
 // --toggle-collect='visimp::simplify(*' (the reading and the V set-up stay outside).
 int single_run(const std::string& mode, const std::string& path, double ratio, unsigned threads) {
@@ -267,11 +253,10 @@ int run(const std::vector<std::string>& args) {
     const std::string& mode = args[1];
     if (mode != "qb" && mode != "vg-ones" && mode != "vg")
       throw visimp::UsageError("--single-run takes qb, vg-ones or vg, not '" + mode + "'");
-    const double ratio = args.size() > 3 ? parse_number(args[3], "--single-run's ratio") : 0.1;
-    const double threads = args.size() > 4 ? parse_number(args[4], "--single-run's thread count") : 0;
+    const double ratio = args.size() > 3 ? visimp::parse_double(args[3], "--single-run's ratio") : 0.1;
+    const std::size_t threads = args.size() > 4 ? visimp::parse_count(args[4], "--single-run's thread count") : 0;
     if (!(ratio > 0 && ratio <= 1)) throw visimp::UsageError("--single-run's ratio must be in (0, 1]");
-    if (!(threads >= 0 && threads <= 256 && threads == std::floor(threads)))
-      throw visimp::UsageError("--single-run's thread count must be a whole number from 0 to 256");
+    if (threads > 1024) throw visimp::UsageError("--single-run's thread count must be at most 1024");
     return single_run(mode, args[2], ratio, static_cast<unsigned>(threads));
   }
   std::vector<std::string> meshes;
