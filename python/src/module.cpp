@@ -242,7 +242,7 @@ py::dict visibility_py(const py::handle& vertices, const py::handle& faces, cons
 
 py::object simplify_py(const py::handle& vertices, const py::handle& faces, const py::object& target,
                        const std::string& method, const py::object& visibility, const py::object& levels,
-                       double max_error, const std::string& quadric_weights, double boundary_weight,
+                       double max_error, const std::string& quadric_weights, double area_floor, double boundary_weight,
                        bool freeze_boundary, double max_normal_change_deg,
                        bool prevent_folds, double visibility_exponent, bool crease_visibility, bool serial_collapses,
                        const py::object& cameras, int resolution, long long threads, const std::string& backend) {
@@ -252,6 +252,7 @@ py::object simplify_py(const py::handle& vertices, const py::handle& faces, cons
   options.method = parse_method(method);
   options.max_error = max_error;
   options.quadric_weights = parse_quadric_weights(quadric_weights);
+  options.area_floor = area_floor;
   options.boundary_weight = boundary_weight;
   options.freeze_boundary = freeze_boundary;
   options.max_normal_change_deg = max_normal_change_deg;
@@ -457,7 +458,7 @@ PYBIND11_MODULE(visimp, m) {
         "camera file). Returns a dict: face (V per face), face_front, face_back, vertex, mesh (V(M)), stats.");
   m.def("simplify", &simplify_py, "V"_a, "F"_a, py::kw_only(), "target"_a = py::none(), "method"_a = "qb",
         "visibility"_a = py::none(), "levels"_a = py::none(), "max_error"_a = simp.max_error,
-        "quadric_weights"_a = "area", "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
+        "quadric_weights"_a = "area", "area_floor"_a = simp.area_floor, "boundary_weight"_a = simp.boundary_weight, "freeze_boundary"_a = simp.freeze_boundary,
         "max_normal_change_deg"_a = simp.max_normal_change_deg, "prevent_folds"_a = simp.prevent_folds,
         "visibility_exponent"_a = simp.visibility_exponent, "crease_visibility"_a = simp.crease_visibility,
         "serial_collapses"_a = simp.serial_collapses, "cameras"_a = 258, "resolution"_a = render.resolution,

@@ -144,6 +144,21 @@ def test_quadric_weights_equal_the_app(tmp_path):
         visimp.simplify(V, F, target=0.1, quadric_weights="none")
 
 
+def test_area_floor_equals_the_app(tmp_path):
+    V, F = visimp.read_mesh(mesh_path("teapot.ply"))
+    out = str(tmp_path / "s.ply")
+    app("simplify", mesh_path("teapot.ply"), out, "--ratio", "0.1", "--area-floor", "1")
+    _, F_app = visimp.read_mesh(out)
+    _, F_floor, _ = visimp.simplify(V, F, target=0.1, area_floor=1.0)
+    _, F_area, _ = visimp.simplify(V, F, target=0.1)  # no floor by default
+    np.testing.assert_array_equal(F_floor, F_app)
+    assert not np.array_equal(F_floor, F_area)
+    with pytest.raises(ValueError, match="area_floor must be a finite number >= 0"):
+        visimp.simplify(V, F, target=0.1, area_floor=-1.0)
+    with pytest.raises(ValueError, match="area_floor applies to area weights only"):
+        visimp.simplify(V, F, target=0.1, area_floor=1.0, quadric_weights="uniform")
+
+
 def test_vg_with_given_visibility_equals_vg_that_measures_it(bunny):
     V, F = bunny
     vis = visimp.visibility(V, F, **QUICK)["face"]

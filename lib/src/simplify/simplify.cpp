@@ -38,6 +38,9 @@ std::vector<OptionSpec> describe_options(SimplifyOptions& o) {
       choice_spec("--quadric-weights", "W", o.quadric_weights,
                   {{"area", QuadricWeights::area}, {"uniform", QuadricWeights::uniform}},
                   "area (a face's plane weighs its area) or uniform (1: CGAL GH's; lower Hausdorff, more image error on CAD)"),
+      option_spec("--area-floor", "F", o.area_floor,
+                  "area weights: a face weighs its area + F x the median face area (1: lower Hausdorff on scans, "
+                  "less image error on CAD than uniform)"),
       option_spec("--boundary-weight", "W", o.boundary_weight,
                   "weight of boundary constraint planes, in faces (area weights: x edge length^2); 0 disables"),
       switch_spec("--freeze-boundary", o.freeze_boundary, "never move or remove boundary vertices"),
@@ -200,6 +203,7 @@ class CollapseEngine {
         prevent_folds_(options.prevent_folds),
         input_faces_(input.num_faces()),
         area_weights_(options.quadric_weights == QuadricWeights::area),
+        area_floor_factor_(options.area_floor),
         boundary_weight_(options.boundary_weight) {
     const std::size_t nv = input.num_vertices();
     reorder_spatially(input, workers);
@@ -563,14 +567,31 @@ class CollapseEngine {
   // the cost quadrics. Collapses add quadrics, so a vertex always carries the weighted planes
   // of every input face merged into it: weights follow the input faces, never the current ones.
   void add_face_quadrics() {
+    const double floor = area_weights_ && area_floor_factor_ > 0 ? area_floor_factor_ * median_face_area() : 0.0;
     for (std::size_t i = 0; i < faces_.size(); ++i) {
       const Face& f = faces_[i];
       if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
       const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
       const double len = norm(n);
-      const Quadric q = Quadric::plane(n / len, positions_[f[0]], area_weights_ ? 0.5 * len : 1.0);
+      const Quadric q = Quadric::plane(n / len, positions_[f[0]], area_weights_ ? 0.5 * len + floor : 1.0);
       add_quadric(i, f, q);
     }
+  }
+
+  // The median area (unit frame) of the faces that add a plane, 0 when none does. Floats: the
+  // 14M-face mesh's set-up would otherwise hold 8 more bytes per face; the floor needs no
+  // more than float precision.
+  double median_face_area() const {
+    std::vector<float> areas;
+    areas.reserve(faces_.size());
+    for (const Face& f : faces_) {
+      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
+      areas.push_back(static_cast<float>(0.5 * norm(cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]))));
+    }
+    if (areas.empty()) return 0.0;
+    const auto middle = areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2);
+    std::nth_element(areas.begin(), middle, areas.end());
+    return *middle;
   }
 
   void add_quadric(std::size_t face, const Face& f, const Quadric& q) {
@@ -1076,6 +1097,7 @@ class CollapseEngine {
   int phase_depth_ = 0;          // the parallel phase's rung (0: none)
   bool has_boundary_ = false;    // some input edge has one face (a vertex carries kBoundary)
   bool area_weights_ = false;  // a face's plane weighs its area, not 1
+  double area_floor_factor_ = 0;  // area weights: + this x the median face area (SimplifyOptions::area_floor)
   double boundary_weight_ = 0;
   // The per-vertex and per-face arrays are huge-page backed when large (core/large_array.h).
   detail::LargeArray<Vec3> positions_;  // unit frame
@@ -1119,6 +1141,10 @@ void check_options(const SimplifyOptions& options) {
     throw OptionError(&o.target_ratio, "SimplifyOptions::target_ratio",
                       "must be in (0, 1] (0: unset), got " + std::to_string(o.target_ratio));
   if (!(o.max_error >= 0)) throw OptionError(&o.max_error, "SimplifyOptions::max_error", "must be >= 0");
+  if (!(o.area_floor >= 0) || !std::isfinite(o.area_floor))
+    throw OptionError(&o.area_floor, "SimplifyOptions::area_floor", "must be a finite number >= 0");
+  if (o.area_floor > 0 && o.quadric_weights != QuadricWeights::area)
+    throw OptionError(&o.area_floor, "SimplifyOptions::area_floor", "applies to area weights only, not uniform");
   if (!(o.boundary_weight >= 0) || !std::isfinite(o.boundary_weight))
     throw OptionError(&o.boundary_weight, "SimplifyOptions::boundary_weight", "must be a finite number >= 0");
   if (!(o.max_normal_change_deg > 0 && o.max_normal_change_deg <= 180))

@@ -70,6 +70,13 @@ struct SimplifyOptions {
   double max_error = std::numeric_limits<double>::infinity();
   /// Weight of each face's plane in the quadrics.
   QuadricWeights quadric_weights = QuadricWeights::area;
+  /// Area weights only: each face's plane weighs its area plus this many times the median
+  /// face area (0: its area alone). Between area and uniform weights: the small faces of a
+  /// thin detail are no longer nearly free to remove, which lowers the Hausdorff distance on
+  /// scans, while a CAD part's large faces still outweigh the small faces of its fillets (their
+  /// median is small), which keeps most of the area weights' lower image error. Must be a finite
+  /// number >= 0. docs/simplify.md, "A floor at the median face area".
+  double area_floor = 0;
   /// Weight of the planes through each boundary edge perpendicular to its face, as a multiple
   /// of one face's plane: W with uniform weights, W × the edge length squared with area
   /// weights (a face weighs its area). Keeps open outlines; 0 disables.
