@@ -180,6 +180,8 @@ TEST(Compare, ReportWritesEveryPromisedFileWithConsistentNumbers) {
   // ... and the VG weighting it ran with, so two runs' files say how they differ.
   EXPECT_NE(text.find("\"visibility_exponent\""), std::string::npos);
   EXPECT_NE(text.find("\"crease_visibility\""), std::string::npos);
+  EXPECT_NE(text.find("\"quadric_weights\": \"area\""), std::string::npos);
+  EXPECT_NE(text.find("\"area_floor\": 0"), std::string::npos);
   EXPECT_NE(text.find("\"supersample\""), std::string::npos);
   // Per level VG's lead, each near-tie run and the verdict; the runs do perturb the order
   // (V = 1 everywhere would give QB exactly, 0%), and every level gets one verdict.

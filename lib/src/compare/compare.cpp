@@ -102,6 +102,8 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   r.visibility_from_quality = options.visibility_from_quality;
   r.visibility_exponent = options.simplify.visibility_exponent;
   r.crease_visibility = options.simplify.crease_visibility;
+  r.quadric_weights = options.simplify.quadric_weights;
+  r.area_floor = options.simplify.area_floor;
   if (options.visibility_from_quality) {
     r.visibility = visibility_from_face_quality(input);
   } else {

@@ -69,6 +69,8 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       .field("visibility_from_quality", r.visibility_from_quality)
       .field("visibility_exponent", r.visibility_exponent)
       .field("crease_visibility", r.crease_visibility)
+      .field("quadric_weights", r.quadric_weights == QuadricWeights::area ? "area" : "uniform")
+      .field("area_floor", r.area_floor)
       .field("hidden_faces", r.visibility.stats.hidden_faces)
       .field("hidden_area_fraction", r.visibility.stats.hidden_area_fraction)
       .field("less_image_error_with_vg_percent", r.less_image_error_percent);
@@ -327,6 +329,15 @@ std::string of_levels(std::size_t count, std::size_t levels) {
   return std::to_string(count) + " of " + std::to_string(levels) + " level" + (levels == 1 ? "" : "s");
 }
 
+// How both methods weighed each face's plane (the default, or what --quadric-weights and
+// --area-floor chose): runs with other weights are not comparable number for number.
+std::string plane_weights(const CompareResult& r) {
+  if (r.quadric_weights == QuadricWeights::uniform) return "planes weighted uniformly (--quadric-weights uniform)";
+  if (r.area_floor > 0)
+    return "planes weighted by area + " + short_number(r.area_floor) + " x the median face area (--area-floor)";
+  return "planes weighted by area";
+}
+
 // Why VG's Hausdorff and RMS can rise while its image error falls, with this run's counts, and
 // the visible error named as the geometric figure to read.
 std::string reading_paragraph(const CompareResult& r) {
@@ -401,7 +412,7 @@ std::string html(const CompareResult& r, const std::string& input_name, std::siz
     << "<p>" << r.faces_in << " faces; V(M) = " << fixed(r.visibility.mesh, 3) << "; hidden area "
     << fixed(100.0 * r.visibility.stats.hidden_area_fraction, 1) << "%; visibility "
     << short_number(r.seconds_visibility) << " s; QB run " << short_number(r.seconds_qb) << " s; VG run "
-    << short_number(r.seconds_vg) << " s.</p>\n"
+    << short_number(r.seconds_vg) << " s; " << plane_weights(r) << ".</p>\n"
     << headline(r);
   if (const std::string note = unreached_levels_note(r); !note.empty())
     s << "<p><b>Note:</b> " << xml_escape(note) << ".</p>\n";

@@ -67,6 +67,10 @@ struct CompareResult {
   bool visibility_from_quality = false;
   double visibility_exponent = 2;  ///< VG's weighting, as run (SimplifyOptions)
   bool crease_visibility = false;
+  /// Both methods' plane weights, as run (SimplifyOptions::quadric_weights and area_floor):
+  /// two runs' files say whether they weighed the faces alike.
+  QuadricWeights quadric_weights = QuadricWeights::area;
+  double area_floor = 0;
   double seconds_visibility = 0;
   std::vector<std::size_t> targets;       ///< descending
   std::vector<CompareLevel> qb, vg;       ///< one per target, same order
