@@ -1,5 +1,6 @@
 // libFuzzer target for read → simplify → write. The first byte picks the format and the
-// target ratio, the last byte's low bit --no-folds; the rest is the file. Accepted meshes must
+// target ratio, the last byte's low bit --no-folds and its next bit --area-floor 1; the rest is
+// the file. Accepted meshes must
 // simplify to a valid mesh with finite coordinates that writes without error and has no more
 // non-manifold edges, non-manifold vertices or misoriented edges than the input.
 #include <algorithm>
@@ -35,6 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   SimplifyOptions options;
   options.target_ratio = ratio;
   options.prevent_folds = (data[size - 1] & 1) != 0;  // the last byte's low bit: both legality sets
+  options.area_floor = (data[size - 1] & 2) != 0 ? 1.0 : 0.0;  // and its next bit: both area weightings
   const Simplified out = simplify(mesh, options);
   if (!validate(out.mesh).ok()) std::abort();
   std::vector<std::uint8_t> proper(mesh.num_faces());
