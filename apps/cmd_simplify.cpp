@@ -154,6 +154,8 @@ int run_simplify(const Args& args) {
         .field("input_format", input_format_name(stream))
         .field("format_detected", input_format_detected(stream))
         .field("method", method)
+        .field("quadric_weights", options.quadric_weights == QuadricWeights::area ? "area" : "uniform")
+        .field("area_floor", options.area_floor)
         .field("bbox_diagonal", diagonal);
     if (visibility) {
       json.field("mesh_visibility", visibility->mesh).field("visibility_from_quality", weights_from_quality);

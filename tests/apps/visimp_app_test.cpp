@@ -70,6 +70,12 @@ TEST_F(App, SimplifyWritesTheTargetAndAJsonSummary) {
   EXPECT_NE(r.out.find("\"faces_out\": 366"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"stop_reason\": \"target_reached\""), std::string::npos);
   EXPECT_EQ(read_mesh(dir + "/out.ply").num_faces(), 366u);  // closed: 367 is odd, so one below
+  // The plane weights it ran with, so two summaries say whether they weighed faces alike.
+  EXPECT_NE(r.out.find("\"quadric_weights\": \"area\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"area_floor\": 0"), std::string::npos) << r.out;
+  const AppRun floor = run("simplify " + bunny + " " + dir + "/floor.ply --ratio 0.1 --area-floor 1 --json", dir);
+  ASSERT_EQ(floor.code, 0) << floor.err;
+  EXPECT_NE(floor.out.find("\"area_floor\": 1"), std::string::npos) << floor.out;
 }
 
 TEST_F(App, UsageErrorsExitTwoWithOneLine) {
