@@ -154,7 +154,7 @@ int run_simplify(const Args& args) {
         .field("input_format", input_format_name(stream))
         .field("format_detected", input_format_detected(stream))
         .field("method", method)
-        .field("quadric_weights", options.quadric_weights == QuadricWeights::area ? "area" : "uniform")
+        .field("quadric_weights", to_string(options.quadric_weights))
         .field("area_floor", options.area_floor)
         .field("bbox_diagonal", diagonal);
     if (visibility) {

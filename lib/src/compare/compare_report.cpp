@@ -69,7 +69,7 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       .field("visibility_from_quality", r.visibility_from_quality)
       .field("visibility_exponent", r.visibility_exponent)
       .field("crease_visibility", r.crease_visibility)
-      .field("quadric_weights", r.quadric_weights == QuadricWeights::area ? "area" : "uniform")
+      .field("quadric_weights", to_string(r.quadric_weights))
       .field("area_floor", r.area_floor)
       .field("hidden_faces", r.visibility.stats.hidden_faces)
       .field("hidden_area_fraction", r.visibility.stats.hidden_area_fraction)

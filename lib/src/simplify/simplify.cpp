@@ -71,6 +71,8 @@ const char* to_string(StopReason reason) {
   return "?";
 }
 
+const char* to_string(QuadricWeights weights) { return weights == QuadricWeights::area ? "area" : "uniform"; }
+
 namespace {
 
 constexpr std::uint8_t kAlive = 1;
@@ -570,12 +572,17 @@ class CollapseEngine {
     const double floor = area_weights_ && area_floor_factor_ > 0 ? area_floor_factor_ * median_face_area() : 0.0;
     for (std::size_t i = 0; i < faces_.size(); ++i) {
       const Face& f = faces_[i];
-      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
+      if (!adds_plane(f)) continue;
       const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
       const double len = norm(n);
       const Quadric q = Quadric::plane(n / len, positions_[f[0]], area_weights_ ? 0.5 * len + floor : 1.0);
       add_quadric(i, f, q);
     }
+  }
+
+  // A face with a repeated index or no area adds no plane (and no area to the floor's median).
+  bool adds_plane(const Face& f) const {
+    return f[0] != f[1] && f[1] != f[2] && f[0] != f[2] && !is_degenerate_in_unit_frame(f);
   }
 
   // The median area (unit frame) of the faces that add a plane, 0 when none does. Floats: the
@@ -585,7 +592,7 @@ class CollapseEngine {
     std::vector<float> areas;
     areas.reserve(faces_.size());
     for (const Face& f : faces_) {
-      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || is_degenerate_in_unit_frame(f)) continue;
+      if (!adds_plane(f)) continue;
       areas.push_back(static_cast<float>(0.5 * norm(cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]))));
     }
     if (areas.empty()) return 0.0;

@@ -132,6 +132,8 @@ enum class StopReason {
   nothing_to_do,      ///< the input already had no more faces than the target
 };
 const char* to_string(StopReason reason);
+/// "area" or "uniform": the --quadric-weights name, as JSON summaries write it.
+const char* to_string(QuadricWeights weights);
 
 /// Where SimplifyResult::seconds went (docs/simplify.md, "Where the time goes").
 struct SimplifyStageSeconds {
