@@ -15,6 +15,8 @@
 //        --vg-overhead: only the last table (VG's cost over QB once V is known)
 //        --peers-only: every table but that one (for large meshes: it runs each 27 times)
 //        --cpu-limit S: a method run past S CPU seconds is killed and reported failed (300)
+//        --keep-outputs DIR: keep every method's mesh as DIR/MESH_RATIO_METHOD.ply (to look at
+//          where the errors are: `visimp metro IN OUT --error-ply F`)
 //        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply [RATIO [THREADS]]
 //          one simplify() to RATIO (0.1) on THREADS threads (0: every core, the default), V from
 //          the file's face quality (a `visimp visibility` output); vg-ones: VG with V = 1. For
@@ -33,6 +35,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -250,7 +253,7 @@ int single_run(const std::string& mode, const std::string& path, double ratio, u
 }  // namespace
 
 constexpr const char* kUsage =
-    "usage: bench_simplify [--vg-overhead | --peers-only] [--cpu-limit S] [MESH ...]\n"
+    "usage: bench_simplify [--vg-overhead | --peers-only] [--cpu-limit S] [--keep-outputs DIR] [MESH ...]\n"
     "       bench_simplify --single-run qb|vg-ones|vg MESH [RATIO [THREADS]]\n"
     "visimp QB against meshoptimizer, CGAL and OpenMesh at 10% and 1% (default: dragon, D-sub, fandisk;\n"
     "without ../shared/meshes the bundled meshes stand in, a note on stderr says which).\n";
@@ -271,6 +274,7 @@ int run(const std::vector<std::string>& args) {
   std::vector<std::string> meshes;
   bool overhead_only = false, peers_only = false;
   double cpu_limit = 300;  // per peer run; a run past it is reported as failed
+  std::string keep_dir;    // where to keep the outputs; empty: a temporary file per method, removed
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--vg-overhead")
       overhead_only = true;
@@ -278,12 +282,15 @@ int run(const std::vector<std::string>& args) {
       peers_only = true;
     else if (args[i] == "--cpu-limit" && i + 1 < args.size())
       cpu_limit = std::atof(args[++i].c_str());
+    else if (args[i] == "--keep-outputs" && i + 1 < args.size())
+      keep_dir = args[++i];
     else if (!args[i].empty() && args[i][0] == '-')
       throw visimp::UsageError("unknown option " + args[i] + " (see --help)");
     else
       meshes.push_back(args[i]);
   }
   if (!(cpu_limit >= 1)) throw visimp::UsageError("--cpu-limit takes seconds >= 1");
+  if (!keep_dir.empty()) std::filesystem::create_directories(keep_dir);
   if (meshes.empty()) {
     meshes = bench::default_meshes("bench_simplify", {{"dragon.ply", "bunny.ply"},
                                                       {"kicad_dsub62_male.ply", "kicad_esp_wroom02.ply"},
@@ -298,7 +305,10 @@ int run(const std::vector<std::string>& args) {
       {"cgal-gh", run_cgal},
       {"openmesh", run_openmesh}};
   const std::string tmp = "/tmp/visimp_bench_" + std::to_string(getpid());
-  auto output_of = [&](const std::string& label) { return tmp + "_" + label + ".ply"; };
+  std::string kept_prefix;  // DIR/MESH_RATIO while --keep-outputs is on
+  auto output_of = [&](const std::string& label) {
+    return (keep_dir.empty() ? tmp : kept_prefix) + "_" + label + ".ply";
+  };
   std::printf(
       "| mesh | faces in | ratio | method | faces out | CPU s | wall s | peak MB | B/tri | Hausdorff/diag | RMS/diag | "
       "CPU vs visimp | Hausdorff vs visimp | RMS vs visimp |\n");
@@ -316,6 +326,9 @@ int run(const std::vector<std::string>& args) {
     const std::string name = path.substr(path.find_last_of('/') + 1);
     for (double ratio : {0.1, 0.01}) {
       const std::size_t target = std::size_t(ratio * double(input.num_faces()));
+      char ratio_text[32];
+      std::snprintf(ratio_text, sizeof ratio_text, "%g", ratio);
+      kept_prefix = keep_dir + "/" + name.substr(0, name.find_last_of('.')) + "_" + ratio_text;
       std::map<std::string, Measured> row;
       for (const auto& [label, method] : methods) {
         const Measured m = measure(input, target, method, output_of(label), cpu_limit);
@@ -343,7 +356,8 @@ int run(const std::vector<std::string>& args) {
       goals += line;
     }
   }
-  for (const auto& [label, method] : methods) std::remove(output_of(label).c_str());
+  if (keep_dir.empty())
+    for (const auto& [label, method] : methods) std::remove(output_of(label).c_str());
   if (!overhead_only) std::printf("\nGoals (issue 22):\n\n%s", goals.c_str());
   if (peers_only) return 0;
   std::printf("\nVG overhead over QB with V known (258 cameras, 480²; 9 interleaved rounds):\n\n");
