@@ -157,6 +157,15 @@ int run_simplify(const Args& args) {
         .field("quadric_weights", to_string(options.quadric_weights))
         .field("area_floor", options.area_floor)
         .field("bbox_diagonal", diagonal);
+    // Every option the result depends on; the sampling's only when V was rendered.
+    std::vector<OptionSpec> in_force = describe_options(options);
+    in_force.push_back(option_spec("--method", "M", method, ""));
+    if (renderer) {
+      for (std::vector<OptionSpec> more : {describe_options(sampling), describe_options(visibility_options)})
+        in_force.insert(in_force.end(), more.begin(), more.end());
+    }
+    json.key("options");
+    write_option_values(json, in_force, parser);
     if (visibility) {
       json.field("mesh_visibility", visibility->mesh).field("visibility_from_quality", weights_from_quality);
     }

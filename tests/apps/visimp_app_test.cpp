@@ -15,6 +15,7 @@
 #include "temp_dir.h"
 #include "test_meshes.h"
 #include "visimp/io/mesh_io.h"
+#include "visimp/simplify/simplify.h"
 
 namespace visimp {
 namespace {
@@ -76,6 +77,35 @@ TEST_F(App, SimplifyWritesTheTargetAndAJsonSummary) {
   const AppRun floor = run("simplify " + bunny + " " + dir + "/floor.ply --ratio 0.1 --area-floor 1 --json", dir);
   ASSERT_EQ(floor.code, 0) << floor.err;
   EXPECT_NE(floor.out.find("\"area_floor\": 1"), std::string::npos) << floor.out;
+}
+
+// The JSON summary records every option the result depends on, typed, so that a pipeline
+// can tell two runs apart or redo one; the sampling options only when V was rendered.
+TEST_F(App, SimplifyJsonRecordsEveryOptionItRanWith) {
+  const AppRun qb = run("simplify " + bunny + " " + dir + "/qb.ply --ratio 0.2 --no-folds --max-normal-change 120 " +
+                            "--boundary-weight 5 --json",
+                        dir);
+  ASSERT_EQ(qb.code, 0) << qb.err;
+  ASSERT_NE(qb.out.find("\"options\": {"), std::string::npos) << qb.out;
+  for (const char* field : {"\"ratio\": 0.2", "\"target\": 0", "\"max_error\": null", "\"no_folds\": true",
+                            "\"freeze_boundary\": false", "\"max_normal_change\": 120", "\"boundary_weight\": 5",
+                            "\"quadric_weights\": \"area\"", "\"method\": \"qb\""})
+    EXPECT_NE(qb.out.find(field), std::string::npos) << field << "\n" << qb.out;
+  SimplifyOptions defaults;
+  for (const OptionSpec& spec : describe_options(defaults)) {  // every simplify option, named as its flag
+    std::string key = spec.flag.substr(2);
+    std::replace(key.begin(), key.end(), '-', '_');
+    EXPECT_NE(qb.out.find("\"" + key + "\": "), std::string::npos) << key;
+  }
+  EXPECT_EQ(qb.out.find("\"cameras\""), std::string::npos) << "nothing was rendered";
+
+  const AppRun vg = run("simplify " + bunny + " " + dir + "/vg.ply --ratio 0.2 --method vg --cameras 6 " +
+                            "--resolution 64 --no-refine --json",
+                        dir);
+  ASSERT_EQ(vg.code, 0) << vg.err;
+  for (const char* field : {"\"method\": \"vg\"", "\"cameras\": \"6\"", "\"resolution\": 64", "\"no_refine\": true",
+                            "\"backend\": \"raster\"", "\"no_folds\": false"})
+    EXPECT_NE(vg.out.find(field), std::string::npos) << field << "\n" << vg.out;
 }
 
 TEST_F(App, UsageErrorsExitTwoWithOneLine) {

@@ -49,7 +49,8 @@ OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& fi
           std::to_string(field),
           [&field, what](std::string_view t) { field = parse_count(t, what); },
           {},
-          &field};
+          &field,
+          OptionKind::count};
 }
 
 OptionSpec option_spec(std::string flag, std::string value_name, int& field, std::string help) {
@@ -60,7 +61,8 @@ OptionSpec option_spec(std::string flag, std::string value_name, int& field, std
           std::to_string(field),
           [&field, what](std::string_view t) { field = parse_int(t, what); },
           {},
-          &field};
+          &field,
+          OptionKind::integer};
 }
 
 OptionSpec option_spec(std::string flag, std::string value_name, double& field, std::string help) {
@@ -71,7 +73,8 @@ OptionSpec option_spec(std::string flag, std::string value_name, double& field, 
           to_text(field),
           [&field, what](std::string_view t) { field = parse_double(t, what); },
           {},
-          &field};
+          &field,
+          OptionKind::number};
 }
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::string& field, std::string help) {
@@ -81,17 +84,18 @@ OptionSpec option_spec(std::string flag, std::string value_name, std::string& fi
           field,
           [&field](std::string_view t) { field = std::string(t); },
           {},
-          &field};
+          &field,
+          OptionKind::text};
 }
 
 OptionSpec switch_spec(std::string flag, bool& field, std::string help) {
   return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = true; }, {},
-          &field};
+          &field, OptionKind::toggle};
 }
 
 OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help) {
   return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = false; }, {},
-          &field};
+          &field, OptionKind::toggle};
 }
 
 }  // namespace visimp

@@ -15,6 +15,16 @@
 
 namespace visimp {
 
+/// What a spec's `target` points to, so a summary can read the value in force with its type.
+enum class OptionKind {
+  count,    ///< std::size_t
+  integer,  ///< int
+  number,   ///< double
+  text,     ///< std::string
+  choice,   ///< an enum, named by one of the spec's choices (default_text when the spec was made)
+  toggle,   ///< bool, set or cleared by the flag's presence
+};
+
 struct OptionSpec {
   std::string flag;                           ///< "--max-error"
   std::string value_name;                     ///< "E"; empty for a switch that takes no value
@@ -26,6 +36,7 @@ struct OptionSpec {
   std::string implicit_value;
   /// The bound field: an OptionError about it (core/errors.h) is reported with this flag.
   const void* target = nullptr;
+  OptionKind kind = OptionKind::text;
 };
 
 OptionSpec option_spec(std::string flag, std::string value_name, std::size_t& field, std::string help);
@@ -63,7 +74,8 @@ OptionSpec choice_spec(std::string flag, std::string value_name, Enum& field,
       }
     throw UsageError(flag + " must be one of " + names + ", not '" + std::string(text) + "'");
   };
-  return {std::move(flag), std::move(value_name), std::move(help), current, std::move(set), {}, &field};
+  return {std::move(flag), std::move(value_name), std::move(help), current, std::move(set), {}, &field,
+          OptionKind::choice};
 }
 
 }  // namespace visimp
