@@ -163,6 +163,11 @@ int run_visibility(const Args& args, CameraSplit* split) {
     json.field("backend", renderer->name()).field("camera_set", cameras.name);
     json.field("camera_first", first).field("camera_last", last).field("fractional", options.fractional);
     json.field("trust_winding", options.trust_winding).field("processes", ranks);
+    std::vector<OptionSpec> in_force = describe_options(sampling);  // every option V depends on
+    const std::vector<OptionSpec> measure = describe_options(options);
+    in_force.insert(in_force.end(), measure.begin(), measure.end());
+    json.key("options");
+    write_option_values(json, in_force, parser);
     write_stats(json, s);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
     json.key("seconds")

@@ -79,25 +79,30 @@ TEST_F(App, SimplifyWritesTheTargetAndAJsonSummary) {
   EXPECT_NE(floor.out.find("\"area_floor\": 1"), std::string::npos) << floor.out;
 }
 
-// The JSON summary records every option the result depends on, typed, so that a pipeline
+// simplify's and visibility's JSON summaries record every option the result depends on, typed, so that a pipeline
 // can tell two runs apart or redo one; the sampling options only when V was rendered.
-TEST_F(App, SimplifyJsonRecordsEveryOptionItRanWith) {
+TEST_F(App, JsonSummariesRecordEveryOptionTheyRanWith) {
+  // The "options" object of a summary (flat: its values hold no braces).
+  auto options_of = [](const std::string& out) {
+    const std::size_t at = out.find("\"options\": {");
+    return at == std::string::npos ? std::string() : out.substr(at, out.find('}', at) - at);
+  };
   const AppRun qb = run("simplify " + bunny + " " + dir + "/qb.ply --ratio 0.2 --no-folds --max-normal-change 120 " +
                             "--boundary-weight 5 --json",
                         dir);
   ASSERT_EQ(qb.code, 0) << qb.err;
-  ASSERT_NE(qb.out.find("\"options\": {"), std::string::npos) << qb.out;
+  const std::string qb_options = options_of(qb.out);
   for (const char* field : {"\"ratio\": 0.2", "\"target\": 0", "\"max_error\": null", "\"no_folds\": true",
                             "\"freeze_boundary\": false", "\"max_normal_change\": 120", "\"boundary_weight\": 5",
                             "\"quadric_weights\": \"area\"", "\"method\": \"qb\""})
-    EXPECT_NE(qb.out.find(field), std::string::npos) << field << "\n" << qb.out;
+    EXPECT_NE(qb_options.find(field), std::string::npos) << field << "\n" << qb.out;
   SimplifyOptions defaults;
   for (const OptionSpec& spec : describe_options(defaults)) {  // every simplify option, named as its flag
     std::string key = spec.flag.substr(2);
     std::replace(key.begin(), key.end(), '-', '_');
-    EXPECT_NE(qb.out.find("\"" + key + "\": "), std::string::npos) << key;
+    EXPECT_NE(qb_options.find("\"" + key + "\": "), std::string::npos) << key;
   }
-  EXPECT_EQ(qb.out.find("\"cameras\""), std::string::npos) << "nothing was rendered";
+  EXPECT_EQ(qb_options.find("\"cameras\""), std::string::npos) << "nothing was rendered";
 
   const AppRun vg = run("simplify " + bunny + " " + dir + "/vg.ply --ratio 0.2 --method vg --cameras 6 " +
                             "--resolution 64 --no-refine --json",
@@ -105,7 +110,14 @@ TEST_F(App, SimplifyJsonRecordsEveryOptionItRanWith) {
   ASSERT_EQ(vg.code, 0) << vg.err;
   for (const char* field : {"\"method\": \"vg\"", "\"cameras\": \"6\"", "\"resolution\": 64", "\"no_refine\": true",
                             "\"backend\": \"raster\"", "\"no_folds\": false"})
-    EXPECT_NE(vg.out.find(field), std::string::npos) << field << "\n" << vg.out;
+    EXPECT_NE(options_of(vg.out).find(field), std::string::npos) << field << "\n" << vg.out;
+
+  const AppRun v = run("visibility " + bunny + " " + dir + "/v.ply --cameras 18 --resolution 96 --depth-tolerance 0.5 --json",
+                       dir);
+  ASSERT_EQ(v.code, 0) << v.err;
+  for (const char* field : {"\"cameras\": \"18\"", "\"resolution\": 96", "\"depth_tolerance\": 0.5",
+                            "\"trust_winding\": false", "\"worst_view_cosine\": 0.25"})
+    EXPECT_NE(options_of(v.out).find(field), std::string::npos) << field << "\n" << v.out;
 }
 
 TEST_F(App, UsageErrorsExitTwoWithOneLine) {
