@@ -68,6 +68,7 @@ void ArgParser::allow_output_flag(std::size_t index) {
 void write_option_values(JsonWriter& json, const std::vector<OptionSpec>& specs, const ArgParser& parser) {
   json.begin_object();
   for (const OptionSpec& spec : specs) {
+    if (spec.flag == "--threads") continue;  // never changes a result (same bytes for any count)
     std::string key = spec.flag.substr(spec.flag.find_first_not_of('-'));
     std::replace(key.begin(), key.end(), '-', '_');
     json.key(key);
