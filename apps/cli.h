@@ -69,10 +69,10 @@ class ArgParser {
 
 /// The options in force after `parser` parsed, as one JSON object keyed by flag
 /// ("--max-normal-change" -> "max_normal_change"): numbers as numbers (inf: null), names and
-/// text as strings, a switch as whether it was given; --threads left out, as it changes no
-/// result. What a result depends on, so that a
-/// pipeline can tell runs apart or redo one. `specs`: describe_options() of the parsed structs,
-/// made after parsing (a choice's name is taken when its spec is made).
+/// text as strings, a switch as whether it was given; --threads is left out, as it changes no
+/// result. What a result depends on, so that a pipeline can tell runs apart or redo one.
+/// `specs`: describe_options() of the parsed structs, made after parsing (a choice's name is
+/// taken when its spec is made).
 void write_option_values(JsonWriter& json, const std::vector<OptionSpec>& specs, const ArgParser& parser);
 
 /// The library's complaint about a field in the terms of the last command line parsed:
