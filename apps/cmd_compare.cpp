@@ -44,34 +44,32 @@ int run_compare(const Args& args) {
                    "report.html to DIR (default: <IN's name>_compare). Prints Zhang & Turk's Table 2 row.",
                    1);
   parser.add(option_spec("-o", "DIR", directory, "output directory (created if missing)"));
-  parser.add(option_spec("--targets", "N,N,..", targets_text, "face counts to compare at"));
-  parser.add(
-      option_spec("--levels", "K", options.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"));
-  parser.add(option_spec("--min-ratio", "R", options.min_ratio, "smallest level as a fraction of IN's faces"));
-  parser.add(option_spec("--max-ratio", "R", options.max_ratio, "largest level as a fraction of IN's faces"));
-  parser.add(switch_spec("--weights-from-quality", options.visibility_from_quality,
-                         "take V from IN's face quality (a 'visimp visibility' output) instead of rendering"));
-  parser.add(option_spec("--metro-samples", "N", options.metro_samples,
-                         "Metro face samples per direction (0: 10 x IN's faces, at most 2,000,000)"));
-  parser.add(option_spec("--image-resolution", "R", image_resolution, "image-error view size in pixels, 16..8192"));
-  parser.add(option_spec("--image-supersample", "S", image_supersample,
-                         "image-error samples per pixel side, averaged, 1..8 (1: point sampling)"));
-  parser.add(option_spec("--tie-noise", "N", options.tie_noise_runs,
-                         "also run N near-tie runs (VG with V in [0.99, 1]) and say per level whether VG's lead "
-                         "exceeds their spread, 0..100"));
-  parser.add(describe_options(sampling));
-  parser.add(describe_options(options.visibility));
-  {  // the levels set the face counts and always run one serial sequence: --target, --ratio
-     // and --serial-collapses would be silently ignored
-    std::vector<OptionSpec> simplify_flags = describe_options(options.simplify);
-    simplify_flags.erase(std::remove_if(simplify_flags.begin(), simplify_flags.end(),
-                                        [](const OptionSpec& o) {
-                                          return o.flag == "--target" || o.flag == "--ratio" ||
-                                                 o.flag == "--serial-collapses";
-                                        }),
-                         simplify_flags.end());
-    parser.add(std::move(simplify_flags));
-  }
+  // The options a comparison depends on: parsed from them, and listed in the JSON summary.
+  auto comparison_specs = [&] {
+    std::vector<OptionSpec> specs = {
+        option_spec("--targets", "N,N,..", targets_text, "face counts to compare at"),
+        option_spec("--levels", "K", options.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"),
+        option_spec("--min-ratio", "R", options.min_ratio, "smallest level as a fraction of IN's faces"),
+        option_spec("--max-ratio", "R", options.max_ratio, "largest level as a fraction of IN's faces"),
+        switch_spec("--weights-from-quality", options.visibility_from_quality,
+                    "take V from IN's face quality (a 'visimp visibility' output) instead of rendering"),
+        option_spec("--metro-samples", "N", options.metro_samples,
+                    "Metro face samples per direction (0: 10 x IN's faces, at most 2,000,000)"),
+        option_spec("--image-resolution", "R", image_resolution, "image-error view size in pixels, 16..8192"),
+        option_spec("--image-supersample", "S", image_supersample,
+                    "image-error samples per pixel side, averaged, 1..8 (1: point sampling)"),
+        option_spec("--tie-noise", "N", options.tie_noise_runs,
+                    "also run N near-tie runs (VG with V in [0.99, 1]) and say per level whether VG's lead "
+                    "exceeds their spread, 0..100")};
+    for (std::vector<OptionSpec> more : {describe_options(sampling), describe_options(options.visibility)})
+      specs.insert(specs.end(), more.begin(), more.end());
+    // The levels set the face counts and always run one serial sequence: --target, --ratio and
+    // --serial-collapses would be silently ignored.
+    for (OptionSpec& o : describe_options(options.simplify))
+      if (o.flag != "--target" && o.flag != "--ratio" && o.flag != "--serial-collapses") specs.push_back(std::move(o));
+    return specs;
+  };
+  parser.add(comparison_specs());
   parser.add(option_spec("--format", "F", stream.format, "format of IN when it is '-': ply, obj, off or stl"));
   parser.add(switch_spec("--json", stream.json, "print a machine-readable JSON summary"));
   if (!parser.parse(args)) return 0;
@@ -121,7 +119,9 @@ int run_compare(const Args& args) {
         .field("faces_in", result.faces_in)
         .field("mesh_visibility", result.visibility.mesh)
         .field("less_image_error_with_vg_percent", result.less_image_error_percent)
-        .field("unreached_levels", unreached);  // empty when both methods reached every level
+        .field("unreached_levels", unreached)  // empty when both methods reached every level
+        .key("options");
+    write_option_values(json, comparison_specs(), parser);
     if (!result.tie_noise_percent.empty()) {
       const TieNoiseCounts v = count_tie_noise_verdicts(result);
       json.key("levels_vs_tie_noise")

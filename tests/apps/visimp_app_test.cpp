@@ -455,6 +455,12 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
   EXPECT_NE(r.out.find("\"less_image_error_with_vg_percent\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"unreached_levels\": \"\""), std::string::npos) << r.out;  // the bunny reaches both
   EXPECT_EQ(r.err.find("note:"), std::string::npos) << r.err;
+  // The options it ran with, as simplify --json lists them (JsonSummariesRecordEveryOptionTheyRanWith).
+  const std::string options = r.out.substr(r.out.find("\"options\": {"));
+  for (const char* field : {"\"targets\": \"1000,300\"", "\"cameras\": \"18\"", "\"resolution\": 128",
+                            "\"image_resolution\": 64", "\"metro_samples\": 100000", "\"tie_noise\": 0",
+                            "\"quadric_weights\": \"area\"", "\"max_normal_change\": 80"})
+    EXPECT_NE(options.substr(0, options.find('}')).find(field), std::string::npos) << field << "\n" << r.out;
   for (const char* f : {"report.html", "results.csv", "results.json", "image_error_vs_seconds.svg", "visibility.png",
                         "side_by_side.png"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/cmp/" + f)) << f;
