@@ -65,37 +65,6 @@ void ArgParser::allow_output_flag(std::size_t index) {
   specs_.push_back(option_spec("-o", "OUT", output_flag_value_, "the output file (the same as giving OUT)"));
 }
 
-void write_option_values(JsonWriter& json, const std::vector<OptionSpec>& specs, const ArgParser& parser) {
-  json.begin_object();
-  for (const OptionSpec& spec : specs) {
-    if (spec.flag == "--threads") continue;  // never changes a result (same bytes for any count)
-    std::string key = spec.flag.substr(spec.flag.find_first_not_of('-'));
-    std::replace(key.begin(), key.end(), '-', '_');
-    json.key(key);
-    switch (spec.kind) {
-      case OptionKind::count:
-        json.value(static_cast<std::uint64_t>(*static_cast<const std::size_t*>(spec.target)));
-        break;
-      case OptionKind::integer:
-        json.value(*static_cast<const int*>(spec.target));
-        break;
-      case OptionKind::number:
-        json.value(*static_cast<const double*>(spec.target));
-        break;
-      case OptionKind::text:
-        json.value(*static_cast<const std::string*>(spec.target));
-        break;
-      case OptionKind::choice:  // the specs are made after parsing: default_text names the value in force
-        json.value(spec.default_text);
-        break;
-      case OptionKind::toggle:
-        json.value(parser.given(spec.flag));
-        break;
-    }
-  }
-  json.end_object();
-}
-
 bool ArgParser::given(const std::string& flag) const {
   return std::find(given_.begin(), given_.end(), flag) != given_.end();
 }

@@ -15,7 +15,6 @@
 #include "visimp/core/option_table.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/render/renderer.h"
-#include "visimp/report/json.h"
 #include "visimp/simplify/simplify.h"
 
 namespace visimp::app {
@@ -67,13 +66,6 @@ class ArgParser {
   std::string output_flag_value_;
 };
 
-/// The options in force after `parser` parsed, as one JSON object keyed by flag
-/// ("--max-normal-change" -> "max_normal_change"): numbers as numbers (inf: null), names and
-/// text as strings, a switch as whether it was given; --threads is left out, as it changes no
-/// result. What a result depends on, so that a pipeline can tell runs apart or redo one.
-/// `specs`: describe_options() of the parsed structs, made after parsing (a choice's name is
-/// taken when its spec is made).
-void write_option_values(JsonWriter& json, const std::vector<OptionSpec>& specs, const ArgParser& parser);
 
 /// The library's complaint about a field in the terms of the last command line parsed:
 /// "--ratio must be ..." for a field a flag was bound to, the library's own words otherwise.

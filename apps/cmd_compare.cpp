@@ -9,6 +9,7 @@
 #include "visimp/compare/compare.h"
 #include "visimp/core/errors.h"
 #include "visimp/report/json.h"
+#include "visimp/report/option_values.h"
 
 namespace visimp::app {
 namespace {
@@ -104,7 +105,7 @@ int run_compare(const Args& args) {
       throw InvalidMeshError(in + ": " + e.what());
     }
   }
-  const std::vector<std::string> written = write_compare_report(result, mesh, in, directory);
+  const std::vector<std::string> written = write_compare_report(result, mesh, in, directory, comparison_specs());
   const std::string name = in == "-" ? "stdin" : std::filesystem::path(in).stem().string();
   const std::string unreached = unreached_levels_note(result);
   if (!unreached.empty()) std::cerr << "visimp compare: note: " << unreached << "\n";
@@ -121,7 +122,7 @@ int run_compare(const Args& args) {
         .field("less_image_error_with_vg_percent", result.less_image_error_percent)
         .field("unreached_levels", unreached)  // empty when both methods reached every level
         .key("options");
-    write_option_values(json, comparison_specs(), parser);
+    write_option_values(json, comparison_specs());
     if (!result.tie_noise_percent.empty()) {
       const TieNoiseCounts v = count_tie_noise_verdicts(result);
       json.key("levels_vs_tie_noise")

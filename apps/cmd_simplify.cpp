@@ -13,6 +13,7 @@
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/report/json.h"
+#include "visimp/report/option_values.h"
 #include "visimp/visibility/visibility.h"
 
 namespace visimp::app {
@@ -165,7 +166,7 @@ int run_simplify(const Args& args) {
         in_force.insert(in_force.end(), more.begin(), more.end());
     }
     json.key("options");
-    write_option_values(json, in_force, parser);
+    write_option_values(json, in_force);
     if (visibility) {
       json.field("mesh_visibility", visibility->mesh).field("visibility_from_quality", weights_from_quality);
     }

@@ -14,6 +14,7 @@
 #include "visimp/core/stopwatch.h"
 #include "visimp/io/atomic_file.h"
 #include "visimp/report/json.h"
+#include "visimp/report/option_values.h"
 #include "visimp/report/svg_plot.h"
 #include "visimp/visibility/orient.h"
 #include "visimp/visibility/visibility.h"
@@ -167,7 +168,7 @@ int run_visibility(const Args& args, CameraSplit* split) {
     const std::vector<OptionSpec> measure = describe_options(options);
     in_force.insert(in_force.end(), measure.begin(), measure.end());
     json.key("options");
-    write_option_values(json, in_force, parser);
+    write_option_values(json, in_force);
     write_stats(json, s);
     if (visibility) json.field("mesh_visibility", visibility->mesh);
     json.key("seconds")

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -461,6 +462,10 @@ TEST_F(App, CompareWritesTheReportAndTheTableRow) {
                             "\"image_resolution\": 64", "\"metro_samples\": 100000", "\"tie_noise\": 0",
                             "\"quadric_weights\": \"area\"", "\"max_normal_change\": 80"})
     EXPECT_NE(options.substr(0, options.find('}')).find(field), std::string::npos) << field << "\n" << r.out;
+  std::ifstream results_json(dir + "/cmp/results.json");  // and so does the report it leaves behind
+  const std::string results((std::istreambuf_iterator<char>(results_json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(results.find("\"targets\": \"1000,300\""), std::string::npos) << results;
+  EXPECT_NE(results.find("\"image_resolution\": 64"), std::string::npos) << results;
   for (const char* f : {"report.html", "results.csv", "results.json", "image_error_vs_seconds.svg", "visibility.png",
                         "side_by_side.png"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/cmp/" + f)) << f;

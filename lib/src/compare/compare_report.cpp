@@ -11,6 +11,7 @@
 #include "visimp/io/mesh_io.h"
 #include "visimp/render/image.h"
 #include "visimp/report/json.h"
+#include "visimp/report/option_values.h"
 #include "visimp/report/svg_plot.h"
 
 namespace visimp {
@@ -57,7 +58,7 @@ std::string csv(const CompareResult& r) {
   return s.str();
 }
 
-std::string json(const CompareResult& r, const std::string& input_name) {
+std::string json(const CompareResult& r, const std::string& input_name, const std::vector<OptionSpec>& options) {
   std::ostringstream s;
   JsonWriter j(s);
   j.begin_object()
@@ -74,6 +75,10 @@ std::string json(const CompareResult& r, const std::string& input_name) {
       .field("hidden_faces", r.visibility.stats.hidden_faces)
       .field("hidden_area_fraction", r.visibility.stats.hidden_area_fraction)
       .field("less_image_error_with_vg_percent", r.less_image_error_percent);
+  if (!options.empty()) {
+    j.key("options");
+    write_option_values(j, options);
+  }
   j.key("seconds")
       .begin_object()
       .field("visibility", r.seconds_visibility)
@@ -433,7 +438,7 @@ std::string html(const CompareResult& r, const std::string& input_name, std::siz
 }  // namespace
 
 std::vector<std::string> write_compare_report(const CompareResult& r, const Mesh& input, const std::string& input_name,
-                                              const std::string& directory) {
+                                              const std::string& directory, const std::vector<OptionSpec>& options) {
   namespace fs = std::filesystem;
   // All or nothing: the files go to a staging directory that replaces `directory` at the end,
   // so an interrupted or failed run leaves the previous report whole.
@@ -442,7 +447,7 @@ std::vector<std::string> write_compare_report(const CompareResult& r, const Mesh
   auto at = [&](const std::string& name) { return (dir / name).string(); };
   std::vector<std::string> written;
   write_text(at("results.csv"), csv(r), written);
-  write_text(at("results.json"), json(r, input_name), written);
+  write_text(at("results.json"), json(r, input_name, options), written);
   const std::string image_y = "image RMS error (eq. 5.11)";
   const PlotSpec image{"Image error vs faces", image_rms_definition(r), image_y, {{"", image_rms, LineStyle::solid}}};
   const PlotSpec geometric{

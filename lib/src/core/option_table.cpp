@@ -95,7 +95,7 @@ OptionSpec switch_spec(std::string flag, bool& field, std::string help) {
 
 OptionSpec negated_switch_spec(std::string flag, bool& field, std::string help) {
   return {std::move(flag), "", std::move(help), field ? "on" : "off", [&field](std::string_view) { field = false; }, {},
-          &field, OptionKind::toggle};
+          &field, OptionKind::negated_toggle};
 }
 
 }  // namespace visimp

@@ -10,6 +10,7 @@
 
 #include "visimp/cameras/camera_set.h"
 #include "visimp/core/mesh.h"
+#include "visimp/core/option_table.h"
 #include "visimp/metrics/image_error.h"
 #include "visimp/metrics/surface_distance.h"
 #include "visimp/render/renderer.h"
@@ -99,9 +100,12 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
 /// Writes into `directory` (created if missing; each file atomically): results.csv,
 /// results.json, four SVG plots, qb_<faces>.ply and vg_<faces>.ply per level, visibility.png,
 /// side_by_side.png (original | QB | VG at the middle level) and report.html. Returns the paths
-/// written. `input_name` is what the report calls the input.
+/// written. `input_name` is what the report calls the input. `options`, when given (the specs
+/// of the options structs as run, e.g. the command line's), go to results.json as `options`
+/// (write_option_values), so that the report says everything it was made with.
 std::vector<std::string> write_compare_report(const CompareResult& result, const Mesh& input,
-                                              const std::string& input_name, const std::string& directory);
+                                              const std::string& input_name, const std::string& directory,
+                                              const std::vector<OptionSpec>& options = {});
 
 /// Where VG's lead at a level (less_image_error_percent_per_level) lies against the range
 /// spanned by that level's near-tie runs and QB itself (0%).

@@ -22,7 +22,8 @@ enum class OptionKind {
   number,   ///< double
   text,     ///< std::string
   choice,   ///< an enum, named by one of the spec's choices (default_text when the spec was made)
-  toggle,   ///< bool, set or cleared by the flag's presence
+  toggle,          ///< bool, set by the flag ("--no-folds": prevent_folds)
+  negated_toggle,  ///< bool, cleared by the flag ("--no-refine": refine)
 };
 
 struct OptionSpec {
