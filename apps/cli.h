@@ -66,7 +66,6 @@ class ArgParser {
   std::string output_flag_value_;
 };
 
-
 /// The library's complaint about a field in the terms of the last command line parsed:
 /// "--ratio must be ..." for a field a flag was bound to, the library's own words otherwise.
 std::string describe_option_error(const OptionError& e);
