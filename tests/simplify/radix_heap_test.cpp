@@ -196,6 +196,29 @@ TEST(RadixHeap, AssignedItemsAreTheOldestOfTheTopBucket) {
   while (!model.empty()) ASSERT_EQ(heap.pop(), model.pop());
 }
 
+// The parallel phase fills each partition's queue with assign_spread from a scratch array it
+// then frees: the queue must pop in the order assign() gives, through pushes and refills.
+TEST(RadixHeap, AssignSpreadPopsAsAssignDoes) {
+  std::mt19937 rng(13);
+  std::uint32_t next_id = 0;
+  std::vector<Item> initial;
+  for (int i = 0; i < 40000; ++i) initial.push_back({std::uint32_t(std::uint32_t(rng()) % 70000) + 900, next_id++});
+  BlockHeap heap;
+  VectorRadixHeap model;
+  heap.push({1, next_id++});  // emptied by the assignment
+  heap.assign_spread(initial);
+  model.assign(initial);
+  EXPECT_EQ(heap.size(), initial.size());
+  EXPECT_EQ(heap.min_key(), std::min_element(initial.begin(), initial.end(), [](Item a, Item b) { return a.key < b.key; })->key);
+  run_against_model(heap, model, rng, 30000, next_id);
+  while (!model.empty()) ASSERT_EQ(heap.pop(), model.pop());
+  // Nothing to spread: empty, and later pushes are not clamped to a key no item had.
+  heap.assign_spread(std::vector<Item>{});
+  EXPECT_TRUE(heap.empty());
+  heap.push({3, 1});
+  EXPECT_EQ(heap.pop(), (Item{3, 1}));
+}
+
 TEST(RadixHeap, TakeAllHandsOverInBucketOrderAndEmpties) {
   std::mt19937 rng(3);
   std::uint32_t next_id = 0;

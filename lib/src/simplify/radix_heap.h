@@ -67,6 +67,16 @@ class RadixHeap {
     bulk_ = std::move(items);
   }
 
+  /// assign() and the spreading that would follow at the next push or pop, at once, from any
+  /// array of T (the array is left as it is): a heap filled from a scratch array that is then
+  /// freed.
+  template <class Items>
+  void assign_spread(const Items& items) {
+    clear();
+    size_ = items.size();
+    if (size_ != 0) spread(items);
+  }
+
   /// Removes and returns an item with the smallest key; among equal keys the last pushed.
   T pop() {
     if (buckets_[0].newest == nullptr) refill_first_bucket();
@@ -221,11 +231,16 @@ class RadixHeap {
   // The assigned items over the buckets (all empty while there is bulk), from their smallest
   // key up: what a refill of a top bucket holding them would do.
   void spread_bulk() {
-    std::uint32_t smallest = UINT32_MAX;
-    for (const T& item : bulk_) smallest = std::min(smallest, item.key);
-    last_ = smallest;
-    for (const T& item : bulk_) append(buckets_[bucket_of(item.key)], item);
+    spread(bulk_);
     Container().swap(bulk_);
+  }
+
+  template <class Items>
+  void spread(const Items& items) {
+    std::uint32_t smallest = UINT32_MAX;
+    for (const T& item : items) smallest = std::min(smallest, item.key);
+    last_ = smallest;
+    for (const T& item : items) append(buckets_[bucket_of(item.key)], item);
   }
 
   Block* new_block() {

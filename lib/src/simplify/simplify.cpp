@@ -93,7 +93,10 @@ struct HeapEntry {
   VertexIndex v0, v1;
   std::uint32_t time;
 };
-using Entries = detail::LargeArray<HeapEntry>;  // edge arrays: huge-page backed when large
+using Entries = detail::LargeArray<HeapEntry>;  // the queues' edges: used to their end
+// Edge arrays that grow, or are reserved from an estimate, and of which the parallel phase
+// has one per partition (hundreds at 14M faces): never rounded up to a huge page.
+using GrowingEntries = detail::GrowingArray<HeapEntry>;
 
 /* Collapse profile of the edge (v0, v1); v1 is merged into v0 at `placement`.
 
@@ -134,7 +137,7 @@ struct Lane {
   // Partitions only.
   bool partition = false;
   bool done = false;                   // reached its face budget
-  Entries leftover;     // edges for the serial phase: crossing, or not deep
+  GrowingEntries leftover;  // edges for the serial phase: crossing, or not deep
   std::size_t faces_at_start = 0, faces_removed = 0, face_budget = 0;
   SimplifyResult tally;                // its collapses, refusals and largest error
 };
@@ -670,7 +673,8 @@ class CollapseEngine {
       });
     }
     Entries serial_edges;
-    std::vector<Entries> partition_edges;
+    std::vector<GrowingEntries> partition_edges;
+    std::vector<std::vector<std::uint32_t>> samples(chunks);  // every 16th key, for the first round's threshold
     std::vector<std::size_t> offset(chunks + 1, 0);
     if (partitioned) {
       // No counting pass: a partition reserves room for as many edges as its vertices have
@@ -707,6 +711,12 @@ class CollapseEngine {
           else
             partition_edges[c].push_back(e);
         });
+      if (partitioned) {
+        // Its queue now, and the array freed: all of them at once were the 14M-face set-up's peak.
+        for (std::size_t i = 0; i < partition_edges[c].size(); i += 16) samples[c].push_back(partition_edges[c][i].key);
+        lanes_[c].heap.assign_spread(partition_edges[c]);
+        GrowingEntries().swap(partition_edges[c]);
+      }
     });
     if (!partitioned) {
       serial_.heap.assign(std::move(serial_edges));
@@ -717,7 +727,7 @@ class CollapseEngine {
     std::vector<std::size_t> faces_of(chunks, 0);
     for (std::size_t f = 0; f < faces_.size(); ++f)
       if (face_alive_[f]) ++faces_of[chunk_of(std::min({faces_[f][0], faces_[f][1], faces_[f][2]}))];
-    std::vector<std::uint32_t> sample;  // every 16th key, for the first round's threshold
+    std::vector<std::uint32_t> sample;
     for (std::size_t c = 0; c < chunks; ++c) {
       Lane& lane = lanes_[c];
       lane.partition = true;
@@ -725,8 +735,7 @@ class CollapseEngine {
       lane.last_vertex = chunk_end(c);
       lane.faces_at_start = faces_of[c];
       lane.face_budget = faces_of[c] * kPhaseRungs[phase_depth_ - 1].budget_per_mille / 1000;
-      for (std::size_t i = 0; i < partition_edges[c].size(); i += 16) sample.push_back(partition_edges[c][i].key);
-      lane.heap.assign(std::move(partition_edges[c]));
+      sample.insert(sample.end(), samples[c].begin(), samples[c].end());
     }
     if (!sample.empty()) {
       auto at = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 20);
@@ -1057,7 +1066,7 @@ class CollapseEngine {
       const std::size_t from = all.size();
       lane.heap.take_all(all);
       all.insert(all.end(), lane.leftover.begin(), lane.leftover.end());
-      Entries().swap(lane.leftover);
+      GrowingEntries().swap(lane.leftover);
       all.erase(std::remove_if(all.begin() + static_cast<std::ptrdiff_t>(from), all.end(), stale), all.end());
       serial_.clock = std::max(serial_.clock, lane.clock);
       serial_.mark_id = std::max(serial_.mark_id, lane.mark_id);

@@ -1,0 +1,77 @@
+// The engine's array allocator (lib/src/core/large_array.h): which arrays get a mapping of
+// their own on a 2 MiB boundary (huge-page backed) and which come from operator new.
+#include "large_array.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <numeric>
+
+namespace visimp::detail {
+namespace {
+
+bool on_huge_page_boundary(const void* p) { return reinterpret_cast<std::uintptr_t>(p) % kHugePageBytes == 0; }
+
+template <class Array>
+Array filled(std::size_t bytes) {
+  Array a(bytes / sizeof(std::uint32_t));
+  std::iota(a.begin(), a.end(), 0u);
+  return a;
+}
+
+TEST(LargeArray, MapsArraysFrom256KiBOnHugePageBoundaries) {
+#if defined(__linux__)
+  if (!huge_pages_on_4k()) GTEST_SKIP() << "pages are not 4 KiB: every array comes from operator new";
+  const auto small = filled<LargeArray<std::uint32_t>>(kWholeHugePageBytes / 2);
+  const auto whole = filled<LargeArray<std::uint32_t>>(std::size_t(1) << 20);  // a D-sub-sized array
+  const auto large = filled<LargeArray<std::uint32_t>>(kLargeArrayBytes + 4096);
+  EXPECT_EQ(mapped_bytes<true>(small.size() * sizeof(std::uint32_t)), 0u);  // operator new's
+  EXPECT_EQ(mapped_bytes<true>(whole.size() * sizeof(std::uint32_t)), kHugePageBytes);  // rounded up
+  EXPECT_EQ(mapped_bytes<true>(kHugePageBytes + 1), 2 * kHugePageBytes);
+  EXPECT_EQ(mapped_bytes<true>(kLargeArrayBytes + 1), kLargeArrayBytes + 1);  // not rounded: pages only
+  EXPECT_TRUE(on_huge_page_boundary(whole.data()));
+  EXPECT_TRUE(on_huge_page_boundary(large.data()));
+  EXPECT_EQ(whole.back(), whole.size() - 1);
+  EXPECT_EQ(large.back(), large.size() - 1);
+#else
+  GTEST_SKIP() << "huge-page mappings are Linux only";
+#endif
+}
+
+TEST(LargeArray, GrowingArraysAreMappedOnlyFrom4MiB) {
+#if defined(__linux__)
+  if (!huge_pages_on_4k()) GTEST_SKIP() << "pages are not 4 KiB: every array comes from operator new";
+  const auto medium = filled<GrowingArray<std::uint32_t>>(std::size_t(1) << 20);
+  const auto large = filled<GrowingArray<std::uint32_t>>(kLargeArrayBytes + 4096);
+  EXPECT_EQ(mapped_bytes<false>(medium.size() * sizeof(std::uint32_t)), 0u);  // operator new's
+  EXPECT_EQ(mapped_bytes<false>(kLargeArrayBytes - 1), 0u);
+  EXPECT_EQ(mapped_bytes<false>(kLargeArrayBytes), kLargeArrayBytes);
+  EXPECT_TRUE(on_huge_page_boundary(large.data()));
+#else
+  GTEST_SKIP() << "huge-page mappings are Linux only";
+#endif
+}
+
+// Growth through every size class: each reallocation frees the old array the way it was
+// made (an unmap of the wrong length would leave pages behind or fault on the next use).
+TEST(LargeArray, GrowsAndShrinksThroughEverySizeClass) {
+  LargeArray<std::uint32_t> a;
+  GrowingArray<std::uint32_t> g;
+  for (std::uint32_t i = 0; i < (3u << 20); ++i) {
+    a.push_back(i);
+    g.push_back(i);
+  }
+  for (std::uint32_t i = 0; i < a.size(); i += 4099) ASSERT_EQ(a[i], i);
+  a.resize(70000);
+  a.shrink_to_fit();
+  g.resize(70000);
+  g.shrink_to_fit();
+  EXPECT_EQ(a.back(), 69999u);
+  EXPECT_EQ(g.back(), 69999u);
+  LargeArray<std::uint32_t> copy = a;
+  a.swap(copy);
+  EXPECT_EQ(a, copy);
+}
+
+}  // namespace
+}  // namespace visimp::detail
