@@ -20,10 +20,14 @@
 //        --cpu-limit S: a method run past S CPU seconds is killed and reported failed (300)
 //        --keep-outputs DIR: keep every method's mesh as DIR/MESH_RATIO_METHOD.ply (to look at
 //          where the errors are: `visimp metro IN OUT --error-ply F`)
-//        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply [RATIO [THREADS]]
+//        bench_simplify --single-run qb|vg-ones|vg MESH_WITH_V.ply [RATIO [THREADS [REPEAT]]]
 //          one simplify() to RATIO (0.1) on THREADS threads (0: every core, the default), V from
 //          the file's face quality (a `visimp visibility` output); vg-ones: VG with V = 1. For
 //          instruction counts (vg_overhead_instructions.sh; THREADS 1 runs every lane on one thread).
+//          REPEAT > 1: that many calls in the one process, and the minimum and median of each
+//          stage's seconds (the set-up, the serial loop, the whole call) on stdout. For an A/B
+//          of the engine's own work on a noisy machine: start-up, reading and first-touch page
+//          faults (the heap is warm after the first call) stay out of it.
 
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
@@ -267,7 +271,7 @@ void vg_overhead(const Mesh& input, const std::string& name, double ratio, int r
 
 // One simplify() call, nothing else timed: callgrind counts it with
 // --toggle-collect='visimp::simplify(*' (the reading and the V set-up stay outside).
-int single_run(const std::string& mode, const std::string& path, double ratio, unsigned threads) {
+int single_run(const std::string& mode, const std::string& path, double ratio, unsigned threads, std::size_t repeat) {
   const Mesh input = visimp::read_mesh(path);
   visimp::SimplifyOptions o;
   o.target_ratio = ratio;
@@ -283,6 +287,22 @@ int single_run(const std::string& mode, const std::string& path, double ratio, u
   const visimp::Simplified out = visimp::simplify(input, o);
   std::printf("%s %zu faces, %zu collapses, %zu refused\n", mode.c_str(), out.result.faces_out, out.result.collapses,
               out.result.rejected_collapses);
+  if (repeat <= 1) return 0;
+  std::vector<double> setup{out.result.stage_seconds.setup}, serial{out.result.stage_seconds.serial},
+      whole{out.result.seconds};
+  for (std::size_t i = 1; i < repeat; ++i) {
+    const visimp::SimplifyResult r = visimp::simplify(input, o).result;
+    setup.push_back(r.stage_seconds.setup);
+    serial.push_back(r.stage_seconds.serial);
+    whole.push_back(r.seconds);
+  }
+  auto print = [](const char* name, std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    std::printf("%s ms: min %.2f median %.2f\n", name, 1e3 * x.front(), 1e3 * x[x.size() / 2]);
+  };
+  print("setup", setup);
+  print("serial", serial);
+  print("whole call", whole);
   return 0;
 }
 
@@ -290,14 +310,15 @@ int single_run(const std::string& mode, const std::string& path, double ratio, u
 
 constexpr const char* kUsage =
     "usage: bench_simplify [--vg-overhead | --peers-only] [--cpu-limit S] [--keep-outputs DIR] [MESH ...]\n"
-    "       bench_simplify --single-run qb|vg-ones|vg MESH [RATIO [THREADS]]\n"
+    "       bench_simplify --single-run qb|vg-ones|vg MESH [RATIO [THREADS [REPEAT]]]\n"
     "visimp QB against meshoptimizer, CGAL and OpenMesh at 10% and 1% (default: dragon, D-sub, fandisk;\n"
     "without ../shared/meshes the bundled meshes stand in, a note on stderr says which).\n";
 
 int run(const std::vector<std::string>& args) {
   if (!args.empty() && args[0] == "--single-run") {
-    if (args.size() < 3 || args.size() > 5)
-      throw visimp::UsageError("--single-run takes a mode, a mesh and optionally a ratio and a thread count (see --help)");
+    if (args.size() < 3 || args.size() > 6)
+      throw visimp::UsageError(
+          "--single-run takes a mode, a mesh and optionally a ratio, a thread count and a repeat count (see --help)");
     const std::string& mode = args[1];
     if (mode != "qb" && mode != "vg-ones" && mode != "vg")
       throw visimp::UsageError("--single-run takes qb, vg-ones or vg, not '" + mode + "'");
@@ -305,7 +326,9 @@ int run(const std::vector<std::string>& args) {
     const std::size_t threads = args.size() > 4 ? visimp::parse_count(args[4], "--single-run's thread count") : 0;
     if (!(ratio > 0 && ratio <= 1)) throw visimp::UsageError("--single-run's ratio must be in (0, 1]");
     if (threads > 1024) throw visimp::UsageError("--single-run's thread count must be at most 1024");
-    return single_run(mode, args[2], ratio, static_cast<unsigned>(threads));
+    const std::size_t repeat = args.size() > 5 ? visimp::parse_count(args[5], "--single-run's repeat count") : 1;
+    if (repeat < 1 || repeat > 10000) throw visimp::UsageError("--single-run's repeat count must be in [1, 10000]");
+    return single_run(mode, args[2], ratio, static_cast<unsigned>(threads), repeat);
   }
   std::vector<std::string> meshes;
   bool overhead_only = false, peers_only = false;

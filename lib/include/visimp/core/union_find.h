@@ -10,8 +10,12 @@ namespace visimp {
 
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n) : parent_(n), size_(n, 1) {
+  explicit UnionFind(std::size_t n = 0) { reset(n); }
+  /// n singletons again, reusing the memory (a loop over many small sets allocates once).
+  void reset(std::size_t n) {
+    parent_.resize(n);
     std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
+    size_.assign(n, 1);
   }
   std::uint32_t find(std::uint32_t x) {
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
