@@ -384,6 +384,43 @@ TEST(Simplify, DuplicateFacesAndAFourFaceEdgeAreKeptLocked) {
     EXPECT_NE(std::find(s.mesh.positions.begin(), s.mesh.positions.end(), p), s.mesh.positions.end());
 }
 
+// A closed cone: apex, a ring of n vertices, a top vertex over the ring; consistently
+// oriented, so every vertex but a shared apex is one closed fan.
+void add_closed_cone(Mesh& m, VertexIndex apex, int n, double z) {
+  const VertexIndex ring = VertexIndex(m.positions.size()), top = ring + VertexIndex(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    m.positions.push_back({std::cos(a), std::sin(a), z});
+  }
+  m.positions.push_back({0, 0, 2 * z});
+  for (int i = 0; i < n; ++i) {
+    const VertexIndex r = ring + VertexIndex(i), r_next = ring + VertexIndex((i + 1) % n);
+    m.faces.push_back(z > 0 ? Face{apex, r, r_next} : Face{apex, r_next, r});
+    m.faces.push_back(z > 0 ? Face{top, r_next, r} : Face{top, r, r_next});
+  }
+}
+
+// classify's shortcut for a vertex that is one closed fan (is_closed_fan, up to 16 faces) and
+// its general test must agree: two cones meeting at their apex lock the apex (two fans), with
+// the apex's 10 faces (the shortcut's range) and 18 (beyond it); a lone cone of 20 locks nothing.
+TEST(Simplify, AnApexWhereTwoClosedConesMeetIsLockedAndNothingElse) {
+  for (int n : {5, 9}) {
+    Mesh m;
+    m.positions.push_back({0, 0, 0});
+    add_closed_cone(m, 0, n, 1.0);
+    add_closed_cone(m, 0, n, -1.0);
+    ASSERT_EQ(analyze(m).non_manifold_vertices, 1u) << n;
+    const Simplified s = simplify_to(m, m.num_faces() - 4);
+    EXPECT_EQ(s.result.locked_vertices, 1u) << "cones of " << n;
+    EXPECT_EQ(analyze(s.mesh).non_manifold_edges, 0u);
+  }
+  Mesh lone;
+  lone.positions.push_back({0, 0, 0});
+  add_closed_cone(lone, 0, 20, 1.0);
+  ASSERT_TRUE(validate(lone).ok());
+  EXPECT_EQ(simplify_to(lone, lone.num_faces() - 4).result.locked_vertices, 0u);
+}
+
 // ---- invariants over every real mesh ---------------------------------------------------
 
 using Kernel = CGAL::Simple_cartesian<double>;
