@@ -578,7 +578,7 @@ class CollapseEngine {
     std::size_t at = 0;
     for (std::size_t steps = 1; steps <= k; ++steps) {
       at = successor[at];
-      if (at == 0) return steps == k;  // back at the first face: one fan iff every face was visited: one fan iff every face was visited
+      if (at == 0) return steps == k;  // back at the first face: one fan iff every face was visited
     }
     return false;  // a cycle that misses the first face: several fans
   }
