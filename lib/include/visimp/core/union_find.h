@@ -10,7 +10,8 @@ namespace visimp {
 
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n = 0) { reset(n); }
+  UnionFind() = default;
+  explicit UnionFind(std::size_t n) { reset(n); }
   /// n singletons again, reusing the memory (a loop over many small sets allocates once).
   void reset(std::size_t n) {
     parent_.resize(n);
