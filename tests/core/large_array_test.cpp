@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <numeric>
+#include <vector>
 
 namespace visimp::detail {
 namespace {
@@ -71,6 +72,37 @@ TEST(LargeArray, GrowsAndShrinksThroughEverySizeClass) {
   LargeArray<std::uint32_t> copy = a;
   a.swap(copy);
   EXPECT_EQ(a, copy);
+}
+
+}  // namespace
+}  // namespace visimp::detail
+
+namespace visimp::detail {
+namespace {
+
+// Mesh's std::vectors (the PLY reader's positions and faces) are advised huge pages over the
+// whole 2 MiB pages of their reserved, untouched capacity: never past either end.
+TEST(AdviseHugePages, CoversOnlyTheWholeHugePagesInside) {
+  constexpr std::uintptr_t MiB = std::uintptr_t(1) << 20;
+  const AddressRange inside = huge_pages_inside(5 * MiB, 7 * MiB);  // [5, 12) MiB
+  EXPECT_EQ(inside.first, 6 * MiB);
+  EXPECT_EQ(inside.last, 12 * MiB);
+  const AddressRange aligned = huge_pages_inside(4 * MiB, 4 * MiB);
+  EXPECT_EQ(aligned.first, 4 * MiB);
+  EXPECT_EQ(aligned.last, 8 * MiB);
+  const AddressRange none = huge_pages_inside(5 * MiB, MiB);  // within one huge page
+  EXPECT_LE(none.last, none.first);
+}
+
+TEST(AdviseHugePages, ReservesRoomForMoreAndKeepsWhatIsThere) {
+  std::vector<std::uint64_t> v = {1, 2, 3};
+  reserve_in_huge_pages(v, kLargeArrayBytes);  // 32 MiB of room: advised
+  EXPECT_GE(v.capacity(), 3 + kLargeArrayBytes);
+  EXPECT_EQ(v, (std::vector<std::uint64_t>{1, 2, 3}));
+  const std::uint64_t* data = v.data();
+  for (std::uint64_t i = 0; i < kLargeArrayBytes; ++i) v.push_back(i);  // no reallocation
+  EXPECT_EQ(v.data(), data);
+  EXPECT_EQ(v[3 + kLargeArrayBytes - 1], kLargeArrayBytes - 1);
 }
 
 }  // namespace

@@ -109,6 +109,75 @@ TEST(MeshIo, PlyWritesDoubleOnlyWhenFloatWouldLosePrecision) {
   for (std::size_t v = 0; v < m.num_vertices(); ++v) EXPECT_EQ(r.positions[v], m.positions[v]);
 }
 
+// Past the 1 MiB block the binary writer fills and flushes: every vertex, face and quality
+// comes back, also the `source_face` column after the indices.
+TEST(MeshIo, PlyBinaryRoundTripOfSeveralMegabytes) {
+  Mesh m = test::grid(400);  // 320,000 faces: ~4 MB of faces, ~2 MB of vertices
+  for (std::size_t v = 0; v < m.num_vertices(); ++v) m.vertex_quality.push_back(float(v % 977) / 977.0f);
+  for (std::size_t f = 0; f < m.num_faces(); ++f) m.face_quality.push_back(float(f % 613) / 613.0f);
+  std::vector<std::uint32_t> source(m.num_faces());
+  for (std::size_t f = 0; f < source.size(); ++f) source[f] = std::uint32_t(3 * f + 1);
+  for (const bool with_quality : {true, false}) {
+    Mesh written = m;
+    if (!with_quality) written.vertex_quality.clear(), written.face_quality.clear();
+    std::stringstream buffer;
+    WriteOptions w;
+    w.source_face = &source;
+    write_mesh(written, buffer, Format::ply, w);
+    ASSERT_GT(buffer.str().size(), std::size_t(5) << 20);
+    const Mesh r = read_mesh_from_bytes(buffer.str(), Format::ply, "big.ply");
+    expect_same_faces(written, r);
+    ASSERT_EQ(r.num_vertices(), written.num_vertices());
+    for (std::size_t v = 0; v < written.num_vertices(); ++v) ASSERT_EQ(r.positions[v], written.positions[v]) << v;
+    EXPECT_EQ(r.vertex_quality, written.vertex_quality);
+    EXPECT_EQ(r.face_quality, written.face_quality);
+  }
+}
+
+// The layouts read by the quickest paths, with what makes them unusual: vertex properties
+// around and between x, y, z and quality (floats, uchar colours, a double), and index lists of
+// 3, 4 and 5 entries as uint (fans, as in the general reader); then the same file with a double
+// quality, which takes the general binary path, must read the same.
+TEST(MeshIo, ReadsBinaryPlyVerticesWithOtherPropertiesAndPolygonFaces) {
+  const auto file = [](bool double_quality) {
+    std::string bytes = "ply\nformat binary_little_endian 1.0\nelement vertex 6\n"
+                        "property uchar red\nproperty float x\nproperty double weight\nproperty float y\n"
+                        "property float z\nproperty " +
+                        std::string(double_quality ? "double" : "float") +
+                        " quality\nproperty uchar green\nelement face 3\n"
+                        "property list uchar uint vertex_indices\nend_header\n";
+    const auto put = [&bytes](const auto& value) { bytes.append(reinterpret_cast<const char*>(&value), sizeof value); };
+    for (int v = 0; v < 6; ++v) {
+      put(std::uint8_t(200 + v));
+      put(float(v) + 0.5f);
+      put(double(-v));
+      put(float(2 * v));
+      put(float(-3 * v) - 0.25f);
+      if (double_quality)
+        put(double(v) / 8);
+      else
+        put(float(v) / 8);
+      put(std::uint8_t(7));
+    }
+    const std::vector<std::vector<std::uint32_t>> polygons = {{0, 1, 2}, {1, 2, 3, 4}, {5, 4, 3, 2, 1}};
+    for (const auto& polygon : polygons) {
+      put(std::uint8_t(polygon.size()));
+      for (std::uint32_t i : polygon) put(i);
+    }
+    return bytes;
+  };
+  for (const bool double_quality : {false, true}) {
+    const Mesh m = read_mesh_from_bytes(file(double_quality), Format::ply, "layout.ply");
+    ASSERT_EQ(m.num_vertices(), 6u);
+    for (int v = 0; v < 6; ++v) {
+      EXPECT_EQ(m.positions[v], (Vec3{v + 0.5, 2.0 * v, -3.0 * v - 0.25})) << v;
+      EXPECT_EQ(m.vertex_quality[v], float(v) / 8) << v;
+    }
+    const std::vector<Face> fans = {{0, 1, 2}, {1, 2, 3}, {1, 3, 4}, {5, 4, 3}, {5, 3, 2}, {5, 2, 1}};
+    ASSERT_EQ(m.faces, fans) << (double_quality ? "general path" : "float path");
+  }
+}
+
 TEST(MeshIo, ReadsBigEndianPlyWithExtraPropertiesAndElements) {
   // Header: doubles, an extra uchar per vertex, an int-indexed list, a trailing element.
   std::string bytes =
