@@ -78,32 +78,47 @@ Format format_from_path(const std::string& path) {
 
 namespace {
 
-// Everything left in `in`, in 1 MiB blocks into a string reserved for `expected` bytes (the
-// file's size when known). Read a character at a time through istreambuf_iterator, a 265 MB
-// PLY took 1.2 s, most of the reader's time; cat takes 0.27 s.
-std::string read_all(std::istream& in, std::uintmax_t expected) {
-  std::string bytes;
-  if (expected > 0) bytes.reserve(static_cast<std::size_t>(expected) + 1);
-  std::vector<char> block(std::size_t{1} << 20);
+// Reads `in` to its end into `bytes`, sized beforehand to what is expected (a regular file's
+// size, else 0): that part in one read straight into the array, the rest — a file that grew, a
+// pipe, standard input — in 64 KiB blocks. (Read a character at a time through
+// istreambuf_iterator, a 265 MB PLY once took 1.2 s; through a 1 MiB block into a string, a
+// copy and page faults for both.)
+template <class Bytes>
+void read_into(std::istream& in, Bytes& bytes) {
+  if (!bytes.empty()) {
+    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    bytes.resize(static_cast<std::size_t>(in.gcount()));  // shorter if the file shrank meanwhile
+  }
+  std::vector<char> block(std::size_t{1} << 16);
   while (in.read(block.data(), static_cast<std::streamsize>(block.size())) || in.gcount() > 0)
-    bytes.append(block.data(), static_cast<std::size_t>(in.gcount()));
-  return bytes;
+    bytes.insert(bytes.end(), block.data(), block.data() + in.gcount());
+}
+
+// A named file opened to be read whole, with its size (0 when it has none: a pipe, a device);
+// a directory or a file that cannot be opened is an IoError naming it.
+std::ifstream open_whole_file(const std::string& path, std::size_t& size) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a mesh file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
+  const std::uintmax_t bytes = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
+  size = ec ? 0 : static_cast<std::size_t>(bytes);
+  return in;
 }
 
 }  // namespace
 
 std::string read_file_bytes(const std::string& path) {
+  std::string bytes;
   if (path == "-") {
-    std::string bytes = read_all(std::cin, 0);
+    read_into(std::cin, bytes);
     if (std::cin.bad()) throw IoError(path, "read error on standard input");
     return bytes;
   }
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a mesh file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
-  const std::uintmax_t size = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
-  std::string bytes = read_all(in, ec ? 0 : size);
+  std::size_t size = 0;
+  std::ifstream in = open_whole_file(path, size);
+  bytes.resize(size);
+  read_into(in, bytes);
   if (in.bad()) throw IoError(path, "read error");
   return bytes;
 }
@@ -124,25 +139,14 @@ std::string_view view_of(const FileBytes& bytes) {
   return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
-// A file's bytes for the mesh readers, read straight into one array, huge-page backed from
-// 256 KiB (core/large_array.h). read_file_bytes's string is filled through a 1 MiB block:
-// a copy, and page faults for the block and the string (~850 for the 2.4 MB D-sub connector,
-// a quarter of reading it; ~65,000 for the 265 MB 14M-face mesh).
+// A mesh file's bytes, read into one array huge-page backed from 256 KiB (core/large_array.h)
+// and not zeroed first: the D-sub connector's 2.4 MB took ~850 page faults through a string,
+// a quarter of reading it.
 FileBytes read_whole_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a mesh file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
-  const std::uintmax_t size = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
-  FileBytes bytes(ec ? 0 : static_cast<std::size_t>(size));
-  if (!bytes.empty()) {
-    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    bytes.resize(static_cast<std::size_t>(in.gcount()));  // shorter if the file shrank meanwhile
-  }
-  // What the size did not cover: a file that grew, or one with no size (a pipe, a device).
-  std::vector<char> block(std::size_t{1} << 16);
-  while (in.read(block.data(), static_cast<std::streamsize>(block.size())) || in.gcount() > 0)
-    bytes.insert(bytes.end(), block.data(), block.data() + in.gcount());
+  std::size_t size = 0;
+  std::ifstream in = open_whole_file(path, size);
+  FileBytes bytes(size);
+  read_into(in, bytes);
   if (in.bad()) throw IoError(path, "read error");
   return bytes;
 }
@@ -191,7 +195,10 @@ Mesh read_mesh_from_bytes(std::string_view bytes, Format format, const std::stri
 }
 
 Mesh read_mesh(std::istream& in, Format format, const std::string& name) {
-  return read_mesh_from_bytes(read_all(in, 0), format, name);
+  std::string bytes;
+  read_into(in, bytes);
+  if (in.bad()) throw IoError(name, "read error");
+  return read_mesh_from_bytes(bytes, format, name);
 }
 
 namespace {

@@ -618,10 +618,9 @@ class CollapseEngine {
     const double floor = area_weights_ && area_floor_factor_ > 0 ? area_floor_factor_ * median_face_area() : 0.0;
     for (std::size_t i = 0; i < faces_.size(); ++i) {
       const Face& f = faces_[i];
-      if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) continue;  // adds_plane, with the normal computed once
       const Vec3 n = cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]]);
       const double len = norm(n);
-      if (is_degenerate_triangle(positions_[f[0]], positions_[f[1]], positions_[f[2]], len)) continue;
+      if (!adds_plane(f, len)) continue;
       const Quadric q = Quadric::plane(n / len, positions_[f[0]], area_weights_ ? 0.5 * len + floor : 1.0);
       add_quadric(i, f, q);
     }
@@ -629,7 +628,12 @@ class CollapseEngine {
 
   // A face with a repeated index or no area adds no plane (and no area to the floor's median).
   bool adds_plane(const Face& f) const {
-    return f[0] != f[1] && f[1] != f[2] && f[0] != f[2] && !is_degenerate_in_unit_frame(f);
+    return adds_plane(f, norm(cross(positions_[f[1]] - positions_[f[0]], positions_[f[2]] - positions_[f[0]])));
+  }
+  // The same for a caller that has the face's |cross| (twice its area) already.
+  bool adds_plane(const Face& f, double cross_length) const {
+    return f[0] != f[1] && f[1] != f[2] && f[0] != f[2] &&
+           !is_degenerate_triangle(positions_[f[0]], positions_[f[1]], positions_[f[2]], cross_length);
   }
 
   // The median area (unit frame) of the faces that add a plane, 0 when none does. Floats: the
