@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
 #include <utility>
 
 namespace visimp {
@@ -12,6 +16,49 @@ TEST(Quadric, PlaneMeasuresWeightedSquaredDistance) {
   EXPECT_DOUBLE_EQ(q.evaluate({5, -1, 4}), 12.0);
   EXPECT_DOUBLE_EQ(q.evaluate({1, 1, 2}), 0.0);
   EXPECT_DOUBLE_EQ(q.area, 3.0);
+}
+
+std::uint64_t bits_of(double d) {
+  std::uint64_t b;
+  std::memcpy(&b, &d, sizeof b);
+  return b;
+}
+
+// VG's cost quadrics are stored in evaluation's pairs and evaluated two lanes at a time on
+// x86: sums and values must keep the plain layout's bits, or VG with V = 1 would stop
+// reproducing QB's collapse order (VisibilityGuided.WithVisibilityOneEverywhereItIsQbBitForBit; the benchmark's
+// overhead rows rely on it).
+TEST(CostQuadric, SumsAndValuesHaveThePlainLayoutsBits) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-40, 40);
+  const auto any = [&] { return std::ldexp(unit(random), exponent(random)); };
+  const auto direction = [&] {
+    const Vec3 n{unit(random), unit(random), unit(random)};
+    return n / norm(n);
+  };
+  int positive = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Quadric q, r;
+    if (i % 2 == 0) {  // sums of weighted planes, as the engine builds them
+      for (int k = 0; k < 3; ++k) {
+        q += Quadric::plane(direction(), {any(), any(), any()}, std::abs(any()));
+        r += Quadric::plane(direction(), {any(), any(), any()}, std::abs(any()));
+      }
+    } else {  // arbitrary coefficients: every lane must match, not only PSD cases
+      for (Quadric* t : {&q, &r}) *t = Quadric{any(), any(), any(), any(), any(), any(), any(), any(), any(), any(), 0};
+    }
+    const Vec3 p{any(), any(), any()};
+    const CostQuadric cq = CostQuadric::from(q), cr = CostQuadric::from(r);
+    const double value = CostQuadric::evaluate_sum(cq, cr, p);
+    ASSERT_EQ(bits_of(value), bits_of((q + r).evaluate(p))) << "case " << i;
+    // A merged vertex's cost quadric (+=) evaluates as the plain sum does.
+    CostQuadric merged = cq;
+    merged += cr;
+    ASSERT_EQ(bits_of(CostQuadric::evaluate_sum(merged, CostQuadric{}, p)), bits_of((q + r).evaluate(p))) << "case " << i;
+    positive += value > 0;
+  }
+  EXPECT_GT(positive, 10000);  // the clamp at 0 did not make the comparison trivial
 }
 
 TEST(Quadric, ThreePlanesPlaceAtTheirCorner) {
