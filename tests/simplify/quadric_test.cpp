@@ -52,6 +52,8 @@ TEST(CostQuadric, SumsAndValuesHaveThePlainLayoutsBits) {
     const CostQuadric cq = CostQuadric::from(q), cr = CostQuadric::from(r);
     const double value = CostQuadric::evaluate_sum(cq, cr, p);
     ASSERT_EQ(bits_of(value), bits_of((q + r).evaluate(p))) << "case " << i;
+    alignas(16) const CostQuadric aligned_q = cq, aligned_r = cr;  // as the engine's records hold them
+    ASSERT_EQ(bits_of(CostQuadric::evaluate_aligned_sum(aligned_q, aligned_r, p)), bits_of(value)) << "case " << i;
     // A merged vertex's cost quadric (+=) evaluates as the plain sum does.
     CostQuadric merged = cq;
     merged += cr;

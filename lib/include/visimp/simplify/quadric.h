@@ -104,8 +104,21 @@ struct CostQuadric {
 
   /// (q + r)(p) without storing the sum, clamped at 0: Quadric::evaluate's bits for the same sum.
   static double evaluate_sum(const CostQuadric& q, const CostQuadric& r, const Vec3& p) {
+    return evaluate_sum_of<false>(q, r, p);
+  }
+  /// The same for two quadrics whose pairs start on 16-byte boundaries (the caller guarantees
+  /// it, e.g. with an alignas(16) record): each pair's load then folds into its add, 6
+  /// instructions fewer per evaluation (SSE2 arithmetic takes only aligned memory operands).
+  static double evaluate_aligned_sum(const CostQuadric& q, const CostQuadric& r, const Vec3& p) {
+    return evaluate_sum_of<true>(q, r, p);
+  }
+
+ private:
+  template <bool kAligned>
+  static double evaluate_sum_of(const CostQuadric& q, const CostQuadric& r, const Vec3& p) {
 #if defined(__SSE2__)
-    const auto sum = [&](int pair) { return _mm_add_pd(_mm_loadu_pd(q.pairs + 2 * pair), _mm_loadu_pd(r.pairs + 2 * pair)); };
+    const auto load = [](const double* pair) { return kAligned ? _mm_load_pd(pair) : _mm_loadu_pd(pair); };
+    const auto sum = [&](int pair) { return _mm_add_pd(load(q.pairs + 2 * pair), load(r.pairs + 2 * pair)); };
     const __m128d x = _mm_set1_pd(p.x), y = _mm_set1_pd(p.y), z = _mm_set1_pd(p.z);
     // Each lane is (α·x + β·y) + γ·z, as every dot product in evaluate_terms (SSE2 has no FMA
     // to contract into).
