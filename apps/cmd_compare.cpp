@@ -36,8 +36,6 @@ int run_compare(const Args& args) {
   SamplingOptions sampling;
   StreamOptions stream;
   std::string directory, targets_text;
-  std::size_t image_resolution = static_cast<std::size_t>(options.image.resolution),
-              image_supersample = static_cast<std::size_t>(options.image.supersample);
   ArgParser parser("visimp compare IN [-o DIR] [--targets N,N,.. | --levels K] [options]",
                    "Simplifies IN with QB and with VG to the same face counts (one collapse run each), measures\n"
                    "every result against IN (Metro-style geometric error, visibility-weighted error, image RMS error\n"
@@ -47,27 +45,9 @@ int run_compare(const Args& args) {
   parser.add(option_spec("-o", "DIR", directory, "output directory (created if missing)"));
   // The options a comparison depends on: parsed from them, and listed in the JSON summary.
   auto comparison_specs = [&] {
-    std::vector<OptionSpec> specs = {
-        option_spec("--targets", "N,N,..", targets_text, "face counts to compare at"),
-        option_spec("--levels", "K", options.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"),
-        option_spec("--min-ratio", "R", options.min_ratio, "smallest level as a fraction of IN's faces"),
-        option_spec("--max-ratio", "R", options.max_ratio, "largest level as a fraction of IN's faces"),
-        switch_spec("--weights-from-quality", options.visibility_from_quality,
-                    "take V from IN's face quality (a 'visimp visibility' output) instead of rendering"),
-        option_spec("--metro-samples", "N", options.metro_samples,
-                    "Metro face samples per direction (0: 10 x IN's faces, at most 2,000,000)"),
-        option_spec("--image-resolution", "R", image_resolution, "image-error view size in pixels, 16..8192"),
-        option_spec("--image-supersample", "S", image_supersample,
-                    "image-error samples per pixel side, averaged, 1..8 (1: point sampling)"),
-        option_spec("--tie-noise", "N", options.tie_noise_runs,
-                    "also run N near-tie runs (VG with V in [0.99, 1]) and say per level whether VG's lead "
-                    "exceeds their spread, 0..100")};
-    for (std::vector<OptionSpec> more : {describe_options(sampling), describe_options(options.visibility)})
+    std::vector<OptionSpec> specs = {option_spec("--targets", "N,N,..", targets_text, "face counts to compare at")};
+    for (std::vector<OptionSpec> more : {describe_options(sampling), describe_options(options)})
       specs.insert(specs.end(), more.begin(), more.end());
-    // The levels set the face counts and always run one serial sequence: --target, --ratio and
-    // --serial-collapses would be silently ignored.
-    for (OptionSpec& o : describe_options(options.simplify))
-      if (o.flag != "--target" && o.flag != "--ratio" && o.flag != "--serial-collapses") specs.push_back(std::move(o));
     return specs;
   };
   parser.add(comparison_specs());
@@ -75,10 +55,9 @@ int run_compare(const Args& args) {
   parser.add(switch_spec("--json", stream.json, "print a machine-readable JSON summary"));
   if (!parser.parse(args)) return 0;
   if (!targets_text.empty()) options.targets = parse_count_list(targets_text, "--targets");
-  check_pixels(image_resolution, "--image-resolution");
-  options.image.resolution = static_cast<int>(image_resolution);
-  if (image_supersample < 1 || image_supersample > 8) throw UsageError("--image-supersample must be in 1..8");
-  options.image.supersample = static_cast<int>(image_supersample);
+  check_pixels(static_cast<std::size_t>(options.image.resolution), "--image-resolution");  // negative: huge
+  if (options.image.supersample < 1 || options.image.supersample > 8)
+    throw UsageError("--image-supersample must be in 1..8");
   options.image.threads = static_cast<unsigned>(std::min<std::size_t>(sampling.threads, kMaxThreads));
   options.simplify.threads = options.image.threads;
   options.visibility.threads = options.image.threads;

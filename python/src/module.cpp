@@ -19,6 +19,7 @@
 #include "visimp/compare/compare.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
+#include "visimp/core/option_table.h"
 #include "visimp/io/mesh_io.h"
 #include "visimp/metrics/image_error.h"
 #include "visimp/metrics/surface_distance.h"
@@ -378,6 +379,14 @@ py::dict compare_py(const std::string& path, const std::string& out_dir, std::si
   options.tie_noise_runs = tie_noise_runs;
   check_options(options);
   Sampling s = sampling(cameras, resolution, thread_count(threads), backend);
+  // results.json records what the report was made with, under the app's flag names.
+  std::string targets_text, cameras_text = camera_spec(cameras), backend_text = backend;
+  for (std::size_t t : options.targets) targets_text += (targets_text.empty() ? "" : ",") + std::to_string(t);
+  std::vector<OptionSpec> specs = {option_spec("--targets", "N,N,..", targets_text, "targets"),
+                                   option_spec("--cameras", "SET", cameras_text, "cameras"),
+                                   option_spec("--resolution", "R", resolution, "resolution"),
+                                   option_spec("--backend", "NAME", backend_text, "backend")};
+  for (OptionSpec& spec : describe_options(options)) specs.push_back(std::move(spec));
   auto done = without_gil([&](SignalCheck& signals) {
     const Mesh mesh = read_mesh(path);
     CompareResult result;
@@ -386,7 +395,7 @@ py::dict compare_py(const std::string& path, const std::string& out_dir, std::si
     } catch (const InvalidMeshError& e) {  // name the file: the library does not know it
       throw InvalidMeshError(path + ": " + e.what());
     }
-    std::vector<std::string> files = write_compare_report(result, mesh, path, out_dir);
+    std::vector<std::string> files = write_compare_report(result, mesh, path, out_dir, specs);
     return std::make_pair(std::move(result), std::move(files));
   });
   const CompareResult& r = done.first;

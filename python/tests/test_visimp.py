@@ -238,7 +238,13 @@ def test_compare_writes_the_report(tmp_path):
         assert level["faces"] <= target and level["image"]["rms"] >= 0 and level["metro"]["hausdorff"] >= 0
     assert (out / "results.json").exists() and (out / "report.html").exists()
     saved = json.loads((out / "results.json").read_text())
-    assert saved  # the same run the app's report describes
+    assert [level["target"] for level in saved["per_level"]] == r["targets"]  # the run returned
+    # ...and what it was made with, under the app's flag names, as `visimp compare` records it
+    options = saved["options"]
+    assert (options["levels"], options["cameras"], options["resolution"], options["image_resolution"],
+            options["metro_samples"], options["backend"], options["targets"]) == (2, "18", 96, 64, 2000, "raster", "")
+    assert "threads" not in options and "ratio" not in options  # no result depends on them
+    assert options["quadric_weights"] == saved["quadric_weights"]
     assert all(os.path.exists(f) for f in r["files"])
 
 

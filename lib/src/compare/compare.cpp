@@ -69,6 +69,30 @@ void check_options(const CompareOptions& o) {
   check_options(o.visibility);
 }
 
+std::vector<OptionSpec> describe_options(CompareOptions& o) {
+  std::vector<OptionSpec> specs = {
+      option_spec("--levels", "K", o.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"),
+      option_spec("--min-ratio", "R", o.min_ratio, "smallest level as a fraction of IN's faces"),
+      option_spec("--max-ratio", "R", o.max_ratio, "largest level as a fraction of IN's faces"),
+      switch_spec("--weights-from-quality", o.visibility_from_quality,
+                  "take V from IN's face quality (a 'visimp visibility' output) instead of rendering"),
+      option_spec("--metro-samples", "N", o.metro_samples,
+                  "Metro face samples per direction (0: 10 x IN's faces, at most 2,000,000)"),
+      option_spec("--image-resolution", "R", o.image.resolution, "image-error view size in pixels, 16..8192"),
+      option_spec("--image-supersample", "S", o.image.supersample,
+                  "image-error samples per pixel side, averaged, 1..8 (1: point sampling)"),
+      option_spec("--tie-noise", "N", o.tie_noise_runs,
+                  "also run N near-tie runs (VG with V in [0.99, 1]) and say per level whether VG's lead "
+                  "exceeds their spread, 0..100")};
+  for (OptionSpec& spec : describe_options(o.visibility)) specs.push_back(std::move(spec));
+  // The levels set the face counts and always run one serial sequence: --target, --ratio and
+  // --serial-collapses would be silently ignored.
+  for (OptionSpec& spec : describe_options(o.simplify))
+    if (spec.flag != "--target" && spec.flag != "--ratio" && spec.flag != "--serial-collapses")
+      specs.push_back(std::move(spec));
+  return specs;
+}
+
 std::vector<std::size_t> default_targets(std::size_t faces, std::size_t levels, double min_ratio, double max_ratio) {
   std::vector<std::size_t> targets;
   for (std::size_t i = 0; i < levels; ++i) {
