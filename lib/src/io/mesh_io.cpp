@@ -98,7 +98,7 @@ void read_into(std::istream& in, Bytes& bytes) {
 // a directory or a file that cannot be opened is an IoError naming it.
 std::ifstream open_whole_file(const std::string& path, std::size_t& size) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a mesh file");
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
   const std::uintmax_t bytes = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;

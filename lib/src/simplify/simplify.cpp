@@ -1200,8 +1200,9 @@ class CollapseEngine {
   // Per vertex, under VG, the cost quadric Q_v = Σ V(t)^P K_t (orders the queue) and right
   // after it the plain quadric Q (places the vertex, gives the error). Interleaved, both come
   // in with one memory access: a separate array doubled the cache misses (VG +15–40% over QB).
-  // The pair is 192 bytes, three cache lines, in whole lines from a huge-page boundary; the
-  // cost quadric first, on a 16-byte boundary, for evaluate_aligned_sum.
+  // The pair is 192 bytes, three cache lines (whole lines in an array of 256 KiB or more,
+  // which starts on a huge-page boundary); the cost quadric first, on a 16-byte boundary, for
+  // evaluate_aligned_sum.
   struct alignas(16) VertexQuadrics {
     CostQuadric cost;
     Quadric plain;

@@ -11,7 +11,10 @@
 
 #include "visimp/core/vec3.h"
 
-#if defined(__SSE2__)
+// The packed path needs SSE2 and no FMA: on an FMA target (-march=native, x86-64-v3) the
+// compiler fuses evaluate_terms' scalar x·ax + y·ay, which two rounded lanes cannot reproduce.
+#if defined(__SSE2__) && !defined(__FMA__)
+#define VISIMP_PACKED_COST_QUADRIC 1
 #include <emmintrin.h>
 #endif
 
@@ -116,12 +119,12 @@ struct CostQuadric {
  private:
   template <bool kAligned>
   static double evaluate_sum_of(const CostQuadric& q, const CostQuadric& r, const Vec3& p) {
-#if defined(__SSE2__)
+#if defined(VISIMP_PACKED_COST_QUADRIC)
     const auto load = [](const double* pair) { return kAligned ? _mm_load_pd(pair) : _mm_loadu_pd(pair); };
     const auto sum = [&](int pair) { return _mm_add_pd(load(q.pairs + 2 * pair), load(r.pairs + 2 * pair)); };
     const __m128d x = _mm_set1_pd(p.x), y = _mm_set1_pd(p.y), z = _mm_set1_pd(p.z);
-    // Each lane is (α·x + β·y) + γ·z, as every dot product in evaluate_terms (SSE2 has no FMA
-    // to contract into).
+    // Each lane is (α·x + β·y) + γ·z, as every dot product in evaluate_terms (no FMA target,
+    // see VISIMP_PACKED_COST_QUADRIC: neither side is contracted).
     const __m128d ax_ay = _mm_add_pd(_mm_add_pd(_mm_mul_pd(sum(0), x), _mm_mul_pd(sum(1), y)), _mm_mul_pd(sum(2), z));
     const __m128d az_bp = _mm_add_pd(_mm_add_pd(_mm_mul_pd(sum(3), x), _mm_mul_pd(sum(4), y)), _mm_mul_pd(sum(5), z));
     const __m128d xax_yay = _mm_mul_pd(_mm_loadu_pd(&p.x), ax_ay);  // p.x and p.y are adjacent
@@ -137,7 +140,7 @@ struct CostQuadric {
   }
 };
 
-#if defined(__SSE2__)
+#if defined(VISIMP_PACKED_COST_QUADRIC)
 static_assert(offsetof(Vec3, y) == offsetof(Vec3, x) + sizeof(double), "CostQuadric loads p.x and p.y as a pair");
 #endif
 
