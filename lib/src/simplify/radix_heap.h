@@ -36,7 +36,7 @@ class RadixHeap {
   RadixHeap(const RadixHeap& other) : bulk_(other.bulk_), last_(other.last_), size_(other.size_) {
     for (std::size_t b = 0; b < buckets_.size(); ++b)
       for (const Block* block = other.buckets_[b].oldest; block != nullptr; block = block->newer)
-        for (std::uint32_t i = 0; i < block->count; ++i) append(buckets_[b], block->items[i]);
+        for (std::uint32_t i = 0; i < block->count; ++i) append(static_cast<int>(b), block->items[i]);
   }
   RadixHeap(RadixHeap&& other) noexcept { swap(other); }
   RadixHeap& operator=(RadixHeap other) noexcept {
@@ -54,7 +54,7 @@ class RadixHeap {
   void push(T item) {
     if (!bulk_.empty()) spread_bulk();
     if (item.key < last_) item.key = last_;
-    append(buckets_[bucket_of(item.key)], item);
+    append(bucket_of(item.key), item);
     ++size_;
   }
 
@@ -81,7 +81,7 @@ class RadixHeap {
   T pop() {
     if (buckets_[0].newest == nullptr) refill_first_bucket();
     --size_;
-    return take_newest(buckets_[0]);
+    return take_first();
   }
 
   /// The smallest key (the heap must not be empty).
@@ -95,7 +95,7 @@ class RadixHeap {
     if (size_ == 0) return false;
     if (buckets_[0].newest == nullptr) refill_first_bucket();
     if (last_ > limit) return false;  // bucket 0 holds exactly the keys equal to last_
-    out = take_newest(buckets_[0]);
+    out = take_first();
     --size_;
     return true;
   }
@@ -143,6 +143,7 @@ class RadixHeap {
       bucket.newest = write;
       if (at == 0) {  // nothing kept in the bucket's first block either
         bucket.oldest = bucket.newest = nullptr;
+        nonempty_ &= ~bucket_bit(static_cast<int>(&bucket - buckets_.data()));
         give_back(write);
       }
       while (rest != nullptr) {
@@ -178,8 +179,11 @@ class RadixHeap {
   static constexpr std::size_t kSpareBlocks = 4;
 
   int bucket_of(std::uint32_t key) const { return key == last_ ? 0 : 32 - __builtin_clz(key ^ last_); }
+  static std::uint64_t bucket_bit(int b) { return std::uint64_t(1) << b; }
 
-  void append(Bucket& bucket, const T& item) {
+  void append(int b, const T& item) {
+    Bucket& bucket = buckets_[b];
+    nonempty_ |= bucket_bit(b);
     Block* block = bucket.newest;
     if (block == nullptr || block->count == kBlockItems) {
       Block* fresh = new_block();
@@ -195,15 +199,19 @@ class RadixHeap {
     block->items[block->count++] = item;
   }
 
-  T take_newest(Bucket& bucket) {
+  // The newest item of bucket 0 (the smallest key, last pushed among equals).
+  T take_first() {
+    Bucket& bucket = buckets_[0];
     Block* block = bucket.newest;
     const T item = block->items[--block->count];
     if (block->count == 0) {
       bucket.newest = block->older;
-      if (bucket.newest != nullptr)
+      if (bucket.newest != nullptr) {
         bucket.newest->newer = nullptr;
-      else
+      } else {
         bucket.oldest = nullptr;
+        nonempty_ &= ~bucket_bit(0);
+      }
       give_back(block);
     }
     return item;
@@ -211,8 +219,9 @@ class RadixHeap {
 
   void refill_first_bucket() {
     if (!bulk_.empty()) return spread_bulk();
-    int i = 1;
-    while (buckets_[i].oldest == nullptr) ++i;
+    // The lowest non-empty bucket above 0 (the heap is not empty, and bucket 0 is): a scan of
+    // the buckets' heads was 3% of the dragon's instructions.
+    const int i = __builtin_ctzll(nonempty_);
     std::uint32_t smallest = UINT32_MAX;
     for (const Block* block = buckets_[i].oldest; block != nullptr; block = block->newer)
       for (std::uint32_t k = 0; k < block->count; ++k) smallest = std::min(smallest, block->items[k].key);
@@ -220,8 +229,9 @@ class RadixHeap {
     // Every item goes to a lower bucket, oldest first; each emptied block is reused at once.
     Block* block = buckets_[i].oldest;
     buckets_[i] = Bucket{};
+    nonempty_ &= ~bucket_bit(i);
     while (block != nullptr) {
-      for (std::uint32_t k = 0; k < block->count; ++k) append(buckets_[bucket_of(block->items[k].key)], block->items[k]);
+      for (std::uint32_t k = 0; k < block->count; ++k) append(bucket_of(block->items[k].key), block->items[k]);
       Block* next = block->newer;
       give_back(block);
       block = next;
@@ -240,7 +250,7 @@ class RadixHeap {
     std::uint32_t smallest = UINT32_MAX;
     for (const T& item : items) smallest = std::min(smallest, item.key);
     last_ = smallest;
-    for (const T& item : items) append(buckets_[bucket_of(item.key)], item);
+    for (const T& item : items) append(bucket_of(item.key), item);
   }
 
   Block* new_block() {
@@ -280,6 +290,7 @@ class RadixHeap {
       }
       bucket = Bucket{};
     }
+    nonempty_ = 0;
     Container().swap(bulk_);
     last_ = 0;
     size_ = 0;
@@ -287,6 +298,7 @@ class RadixHeap {
 
   void swap(RadixHeap& other) noexcept {
     std::swap(buckets_, other.buckets_);
+    std::swap(nonempty_, other.nonempty_);
     bulk_.swap(other.bulk_);
     std::swap(last_, other.last_);
     std::swap(size_, other.size_);
@@ -295,6 +307,7 @@ class RadixHeap {
   }
 
   std::array<Bucket, 33> buckets_{};
+  std::uint64_t nonempty_ = 0;  // bit b: buckets_[b] holds items
   Container bulk_;  // items given by assign(), not yet spread
   std::uint32_t last_ = 0;
   std::size_t size_ = 0;
