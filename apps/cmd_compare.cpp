@@ -46,8 +46,7 @@ int run_compare(const Args& args) {
   // The options a comparison depends on: parsed from them, and listed in the JSON summary.
   auto comparison_specs = [&] {
     std::vector<OptionSpec> specs = {option_spec("--targets", "N,N,..", targets_text, "face counts to compare at")};
-    for (std::vector<OptionSpec> more : {describe_options(sampling), describe_options(options)})
-      specs.insert(specs.end(), more.begin(), more.end());
+    for (OptionSpec& spec : describe_options(options, describe_options(sampling))) specs.push_back(std::move(spec));
     return specs;
   };
   parser.add(comparison_specs());

@@ -382,11 +382,11 @@ py::dict compare_py(const std::string& path, const std::string& out_dir, std::si
   // results.json records what the report was made with, under the app's flag names.
   std::string targets_text, cameras_text = camera_spec(cameras), backend_text = backend;
   for (std::size_t t : options.targets) targets_text += (targets_text.empty() ? "" : ",") + std::to_string(t);
-  std::vector<OptionSpec> specs = {option_spec("--targets", "N,N,..", targets_text, "targets"),
-                                   option_spec("--cameras", "SET", cameras_text, "cameras"),
-                                   option_spec("--resolution", "R", resolution, "resolution"),
-                                   option_spec("--backend", "NAME", backend_text, "backend")};
-  for (OptionSpec& spec : describe_options(options)) specs.push_back(std::move(spec));
+  std::vector<OptionSpec> specs = {option_spec("--targets", "N,N,..", targets_text, "targets")};
+  for (OptionSpec& spec : describe_options(options, {option_spec("--cameras", "SET", cameras_text, "cameras"),
+                                                     option_spec("--resolution", "R", resolution, "resolution"),
+                                                     option_spec("--backend", "NAME", backend_text, "backend")}))
+    specs.push_back(std::move(spec));
   auto done = without_gil([&](SignalCheck& signals) {
     const Mesh mesh = read_mesh(path);
     CompareResult result;

@@ -69,7 +69,7 @@ void check_options(const CompareOptions& o) {
   check_options(o.visibility);
 }
 
-std::vector<OptionSpec> describe_options(CompareOptions& o) {
+std::vector<OptionSpec> describe_options(CompareOptions& o, std::vector<OptionSpec> sampling) {
   std::vector<OptionSpec> specs = {
       option_spec("--levels", "K", o.levels, "number of levels, log-spaced over --min-ratio..--max-ratio"),
       option_spec("--min-ratio", "R", o.min_ratio, "smallest level as a fraction of IN's faces"),
@@ -84,6 +84,7 @@ std::vector<OptionSpec> describe_options(CompareOptions& o) {
       option_spec("--tie-noise", "N", o.tie_noise_runs,
                   "also run N near-tie runs (VG with V in [0.99, 1]) and say per level whether VG's lead "
                   "exceeds their spread, 0..100")};
+  for (OptionSpec& spec : sampling) specs.push_back(std::move(spec));
   for (OptionSpec& spec : describe_options(o.visibility)) specs.push_back(std::move(spec));
   // The levels set the face counts and always run one serial sequence: --target, --ratio and
   // --serial-collapses would be silently ignored.

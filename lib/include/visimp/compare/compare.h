@@ -44,11 +44,12 @@ struct CompareOptions {
 void check_options(const CompareOptions& options);
 
 /// The comparison's settings as `visimp compare`'s flags: its own (--levels .. --tie-noise,
-/// the image-error view size and supersampling), then VisibilityOptions' and SimplifyOptions'
-/// without --target, --ratio and --serial-collapses (the levels set them). Not --targets (a
-/// list) nor the cameras and renderer (the caller's): callers add those. The one list behind
-/// the app's flags and results.json's `options` from every caller (write_compare_report).
-std::vector<OptionSpec> describe_options(CompareOptions& options);
+/// the image-error view size and supersampling), then `sampling` (the caller's specs of its
+/// cameras and renderer), then VisibilityOptions' and SimplifyOptions' without --target,
+/// --ratio and --serial-collapses (the levels set them). Not --targets (a list): callers add
+/// it. The one list behind the app's flags and results.json's `options` from every caller
+/// (write_compare_report), in the same order.
+std::vector<OptionSpec> describe_options(CompareOptions& options, std::vector<OptionSpec> sampling = {});
 
 /// `levels` face counts from max_ratio·faces down to min_ratio·faces, evenly spaced in log,
 /// rounded to even numbers (closed meshes lose faces two at a time), distinct, ≥ 4.
