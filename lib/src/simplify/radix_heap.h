@@ -219,8 +219,8 @@ class RadixHeap {
 
   void refill_first_bucket() {
     if (!bulk_.empty()) return spread_bulk();
-    // The lowest non-empty bucket above 0 (the heap is not empty, and bucket 0 is): a scan of
-    // the buckets' heads was 3% of the dragon's instructions.
+    // The lowest non-empty bucket above 0 (the heap is not empty, and bucket 0 is). Scanning
+    // the buckets' heads instead cost QB 1.4% more instructions on the dragon.
     const int i = __builtin_ctzll(nonempty_);
     std::uint32_t smallest = UINT32_MAX;
     for (const Block* block = buckets_[i].oldest; block != nullptr; block = block->newer)

@@ -84,7 +84,7 @@ struct Quadric {
 /// the same coordinate — (a00 a01) (a01 a11) (a02 a12), times x, y, z, give the first two rows
 /// of A·p; (a02 b0) (a12 b1) (a22 b2) its third row and b·p — so two SSE2 lanes compute two of
 /// Quadric::evaluate_terms' dot products at once, in its order and with no shuffle: the bits are
-/// the plain layout's (tests compare). Stored as a Quadric it took ~70 instructions a push, 5%
+/// the plain layout's (tests compare). Stored as a Quadric it took ~66 instructions a push, 4%
 /// of a QB run's count; no `area`: nothing divides by it.
 struct CostQuadric {
   double pairs[12] = {};
