@@ -192,6 +192,7 @@ int run_simplify(const Args& args) {
           .field("collapses", r.collapses)
           .field("parallel_collapses", r.parallel_collapses)
           .field("rejected_collapses", r.rejected_collapses)
+          .field("requeued_edges", r.requeued_edges)
           .field("locked_vertices", r.locked_vertices)
           .field("dropped_faces", r.dropped_faces)
           .field("stop_reason", to_string(r.stop_reason))

@@ -116,7 +116,8 @@ py::dict visibility_dict(const Visibility& v) {
 py::dict result_dict(const SimplifyResult& r) {
   return py::dict("faces_in"_a = r.faces_in, "faces_out"_a = r.faces_out, "vertices_in"_a = r.vertices_in,
                   "vertices_out"_a = r.vertices_out, "target_faces"_a = r.target_faces, "collapses"_a = r.collapses,
-                  "parallel_collapses"_a = r.parallel_collapses, "rejected_collapses"_a = r.rejected_collapses, "locked_vertices"_a = r.locked_vertices,
+                  "parallel_collapses"_a = r.parallel_collapses, "rejected_collapses"_a = r.rejected_collapses,
+                  "requeued_edges"_a = r.requeued_edges, "locked_vertices"_a = r.locked_vertices,
                   "dropped_faces"_a = r.dropped_faces, "max_error"_a = r.max_error,
                   "stop_reason"_a = to_string(r.stop_reason), "seconds"_a = r.seconds,
                   "stage_seconds"_a = py::dict("setup"_a = r.stage_seconds.setup,

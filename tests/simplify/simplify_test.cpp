@@ -332,6 +332,26 @@ TEST(Simplify, OffsetAndScaleDoNotChangeTheRelativeError) {
   EXPECT_NEAR(b.result.max_error, a.result.max_error, 0.01 * a.result.max_error);
 }
 
+// The lazy queue (docs/simplify.md, "Lazy re-costing"): a collapse costs only the edges it
+// makes (and, after a free collapse, all at the merged vertex); an edge it changed is costed
+// again when its entry reaches the front. Eagerly every edge at the merged vertex was costed
+// at every collapse: 6.8 per collapse on the bunny at 10%, against 4.3. And no edge may be
+// lost on the way: the bunny still goes down to 20 faces.
+TEST(Simplify, LazyQueueCostsAChangedEdgeWhenItIsDueAndLosesNone) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  SimplifyOptions o;
+  o.target_ratio = 0.1;
+  const Simplified s = simplify(bunny, o);
+  EXPECT_EQ(s.result.stop_reason, StopReason::target_reached);
+  EXPECT_GT(s.result.requeued_edges, s.result.collapses);  // counted at all
+  EXPECT_LT(s.result.requeued_edges, 5 * s.result.collapses);
+  for (std::size_t target : {200u, 20u}) {
+    const Simplified low = simplify_to(bunny, target);
+    EXPECT_EQ(low.mesh.num_faces(), target);
+    EXPECT_EQ(low.result.stop_reason, StopReason::target_reached);
+  }
+}
+
 TEST(Simplify, SliversAndZeroAreaFacesGiveFiniteOutput) {
   // A grid whose middle column is squashed to 1e-9 wide (slivers), plus collinear and
   // coincident-vertex faces glued on.

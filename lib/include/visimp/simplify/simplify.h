@@ -150,6 +150,9 @@ struct SimplifyResult {
   std::size_t collapses = 0;
   std::size_t parallel_collapses = 0;  ///< of `collapses`, those of the parallel phase (docs/simplify.md, "Two cores")
   std::size_t rejected_collapses = 0;  ///< candidates refused by a legality filter (counted per attempt)
+  /// Edges costed again after the set-up: at a collapse, or when a dated entry reached the
+  /// front of the (lazy) queue. Its placements are most of a run's arithmetic.
+  std::size_t requeued_edges = 0;
   std::size_t locked_vertices = 0;     ///< vertices never moved: non-manifold, misoriented, frozen boundary
   std::size_t dropped_faces = 0;       ///< input faces with a repeated vertex index, removed first (no area, no fan)
   /// Largest error of a performed collapse, same unit as max_error (relative to the diagonal).
