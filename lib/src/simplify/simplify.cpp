@@ -82,8 +82,9 @@ constexpr std::uint8_t kBoundary = 4;  // on an open boundary
 constexpr std::uint8_t kRejected = 8;  // a collapse at this vertex was refused; retry after nearby changes
 constexpr std::uint8_t kCut = 16;      // parallel phase: has a neighbour in another partition
 
-// A candidate in the lazy queue (key: radix_key of its cost). It is stale when either
-// endpoint changed after `time`; stale entries are skipped when popped.
+// A candidate in the queue (key: radix_key of its cost when costed at `time`). When an end
+// changed after `time` the entry is dated: the lazy queue costs it again when it is popped,
+// an eager one drops it (CollapseEngine::take_current).
 // A CollapseCost refuses a collapse with an infinite cost (the walkthrough paper's projected
 // length tolerance): the key sorts after every finite cost, and such entries are skipped like
 // collapses over max_error until a neighbouring collapse re-costs the edge.
@@ -932,17 +933,19 @@ class CollapseEngine {
   bool is_dated(const HeapEntry& e) const { return modified_[e.v0] > e.time || modified_[e.v1] > e.time; }
   bool is_stale(const HeapEntry& e) const { return is_dead(e) || is_dated(e); }
   // An entry that stands for nothing: in a lazy queue a dated entry is still its edge's only
-  // one (see take_current), so only entries of a removed vertex go.
+  // one (see take_current), so only entries of a removed vertex and entries queued again
+  // since go.
   bool is_obsolete(const HeapEntry& e) const { return lazy_ ? is_dead(e) || is_superseded(e) : is_stale(e); }
 
-  // Lazy re-costing (Hoppe's lazy queue, as in Garland's thesis §4.4): a collapse re-costs only the
-  // edges it creates; an edge it changed keeps its entry, whose key is a lower bound, because
-  // a merged quadric is the sum of two positive semi-definite ones: the optimum over the sum
-  // is at least the optimum over either part. When such a dated entry reaches the front it is
-  // re-costed here: if its cost went up it goes back into the queue (false), otherwise it is
-  // taken now with its new key, as the cheapest in the queue. An edge whose ends change k times
-  // before it is popped is costed once instead of k times. Under an eager queue (a caller's
-  // CollapseCost, whose costs need not grow) every entry is current: dated ones are dropped.
+  // Lazy re-costing: a collapse costs only the edges it creates (collapse()); an edge it
+  // changed keeps its entry, whose key is (nearly) a lower bound of its new cost: a merged
+  // quadric is the old one plus a positive semi-definite one, so its minimum is no lower.
+  // (Nearly: place() prefers endpoints and damps singular directions, and VG's key is Q_v at
+  // Q's point.) When a dated entry reaches the front it is costed here: if its cost rose it
+  // goes back into the queue (false); otherwise it is taken now with its new key, the cheapest
+  // left. An edge whose ends change k times before it is popped is costed once, not k times.
+  // Under an eager queue (a caller's CollapseCost, whose costs need not grow) every edge at a
+  // changed vertex was queued again, so a dated entry is dropped.
   bool take_current(Lane& lane, HeapEntry& entry) {
     if (is_dead(entry)) return false;
     if (!is_dated(entry)) return true;
@@ -963,9 +966,9 @@ class CollapseEngine {
     return true;
   }
 
-  // A refused collapse leaves the queue until a change next to it: both ends are flagged
-  // (collapse() queues the edges between flagged vertices again). So does a collapse past
-  // max_error in a lazy queue (an eager one re-costs every edge at a changed vertex anyway).
+  // A refused collapse leaves the queue until a change next to it: both ends are flagged, and
+  // collapse() queues the edges between flagged vertices again. So does a collapse past
+  // max_error in a lazy queue (an eager one queues every edge at a changed vertex anyway).
   void set_aside(const CollapseProfile& p) {
     flags_[p.v0] |= kRejected;
     flags_[p.v1] |= kRejected;
@@ -982,8 +985,7 @@ class CollapseEngine {
     return p.placement.error <= 1e-12 * (q.a00 + q.a11 + q.a22 + std::abs(q.c)) + 1e-300;
   }
 
-
-  // Fills the profile for a fresh heap entry (callers check is_stale first); false when the
+  // Fills the profile for a current heap entry (callers call take_current first); false when the
   // edge has no face left.
   bool prepare(const HeapEntry& e, CollapseProfile& p) {
     p.v0 = e.v0;
