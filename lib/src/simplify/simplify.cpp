@@ -132,12 +132,13 @@ struct MovedFace {
 // queue's buckets and tallies at every collapse.
 struct alignas(64) Lane {
   detail::RadixHeap<HeapEntry, Entries> heap;
-  std::uint32_t clock = 0;    // the lane's vertices' modified_ and its entries' times
+  std::uint32_t clock = 0;    // the lane's vertices' modified_ and requeued_, and its entries' times
   std::uint32_t mark_id = 0;  // the last mark given to one of its vertices
   VertexIndex first_vertex = 0, last_vertex = 0;
   std::vector<VertexIndex> ring, second_ring;
   std::vector<MovedFace> moved_faces;
   bool error_limited = false;
+  std::size_t compact_at = 0;      // the heap size the next compaction waits for (maybe_compact_heap)
   std::size_t requeued_edges = 0;  // edges costed after the set-up (SimplifyResult::requeued_edges)
   // Partitions only.
   bool partition = false;
@@ -932,9 +933,9 @@ class CollapseEngine {
   // An end changed after the entry was costed.
   bool is_dated(const HeapEntry& e) const { return modified_[e.v0] > e.time || modified_[e.v1] > e.time; }
   bool is_stale(const HeapEntry& e) const { return is_dead(e) || is_dated(e); }
-  // An entry that stands for nothing: in a lazy queue a dated entry is still its edge's only
-  // one (see take_current), so only entries of a removed vertex and entries queued again
-  // since go.
+  // An entry that stands for nothing: in a lazy queue a dated entry is usually its edge's only
+  // one (take_current costs it again; a flagged edge may have a duplicate, popped in turn), so
+  // only entries of a removed vertex and entries a collapse at an end superseded go.
   bool is_obsolete(const HeapEntry& e) const { return lazy_ ? is_dead(e) || is_superseded(e) : is_stale(e); }
 
   // Lazy re-costing: a collapse costs only the edges it creates (collapse()); an edge it
@@ -1209,7 +1210,7 @@ class CollapseEngine {
   }
 
   // The end of the parallel phase: one queue from every partition's, in partition order
-  // (stale entries dropped), clocks and marks above every lane's, the tallies summed.
+  // (obsolete entries dropped), clocks and marks above every lane's, the tallies summed.
   void join_partitions(SimplifyResult& result) {
     std::size_t entries = 0;
     for (const Lane& lane : lanes_) entries += lane.heap.size() + lane.leftover.size();
@@ -1245,13 +1246,17 @@ class CollapseEngine {
     next_report_ = faces_alive_ > report_every_ ? faces_alive_ - report_every_ : 0;
   }
 
-  // Drops stale entries once the heap holds 3× the live edges, bounding its memory (at 4× the
-  // heap was the engine's largest allocation).
+  // Drops obsolete entries once the heap holds 3× the live edges, bounding its memory (at 4×
+  // the heap was the engine's largest allocation). A lazy queue keeps dated entries, and a
+  // duplicate queued for a flagged edge stays until popped, so a compaction may leave the heap
+  // above the line: the next then waits until the heap has doubled (no scan of the whole heap
+  // at every collapse). When and how often the heap is compacted changes no pop order.
   void maybe_compact_heap(Lane& lane) {
     const std::size_t faces = lane.partition ? lane.faces_at_start - lane.faces_removed : faces_alive_;
     const std::size_t live_edges = faces * 3 / 2 + 1024;
-    if (lane.heap.size() < 3 * live_edges) return;
+    if (lane.heap.size() < std::max(3 * live_edges, lane.compact_at)) return;
     lane.heap.remove_if([this](const HeapEntry& e) { return is_obsolete(e); });
+    lane.compact_at = 2 * lane.heap.size();
   }
 
   const Mesh& input_;
