@@ -932,11 +932,10 @@ class CollapseEngine {
   bool is_superseded(const HeapEntry& e) const { return requeued_[e.v0] > e.time || requeued_[e.v1] > e.time; }
   // An end changed after the entry was costed.
   bool is_dated(const HeapEntry& e) const { return modified_[e.v0] > e.time || modified_[e.v1] > e.time; }
-  bool is_stale(const HeapEntry& e) const { return is_dead(e) || is_dated(e); }
   // An entry that stands for nothing: in a lazy queue a dated entry is usually its edge's only
   // one (take_current costs it again; a flagged edge may have a duplicate, popped in turn), so
   // only entries of a removed vertex and entries a collapse at an end superseded go.
-  bool is_obsolete(const HeapEntry& e) const { return lazy_ ? is_dead(e) || is_superseded(e) : is_stale(e); }
+  bool is_obsolete(const HeapEntry& e) const { return is_dead(e) || (lazy_ ? is_superseded(e) : is_dated(e)); }
 
   // Lazy re-costing: a collapse costs only the edges it creates (collapse()); an edge it
   // changed keeps its entry, whose key is (nearly) a lower bound of its new cost: a merged
@@ -981,8 +980,9 @@ class CollapseEngine {
   // region the queue's order (last queued first) then goes on around the vertex just merged.
   // Left in their old places, fandisk's flat regions were merged into hubs of many faces whose
   // collapses were refused again and again (3x the refusals, 1.9x the instructions).
+  // (Asked before the collapse: the merged quadric is summed here as collapse() will sum it.)
   bool was_free(const CollapseProfile& p) const {
-    const Quadric& q = plain_quadric(p.v0);  // merged
+    const Quadric q = plain_quadric(p.v0) + plain_quadric(p.v1);
     return p.placement.error <= 1e-12 * (q.a00 + q.a11 + q.a22 + std::abs(q.c)) + 1e-300;
   }
 
@@ -1095,9 +1095,14 @@ class CollapseEngine {
 
   void collapse(Lane& lane, const CollapseProfile& p, SimplifyResult& result) {
     const VertexIndex v0 = p.v0, v1 = p.v1;
-    // v0's neighbours before the collapse: their edges with v0 keep their entries (lazy queue).
-    const std::uint32_t before = fresh_mark(lane);
-    visit_neighbors(mark_, before, v0, [](VertexIndex) {});
+    // v0's neighbours before the collapse: their edges with v0 keep their entries, unless every
+    // edge at v0 is queued again (an eager queue, a free collapse).
+    const bool requeue_all = !lazy_ || was_free(p);
+    std::uint32_t before = 0;  // read only when !requeue_all
+    if (!requeue_all) {
+      before = fresh_mark(lane);
+      visit_neighbors(mark_, before, v0, [](VertexIndex) {});
+    }
     for (int i = 0; i < p.num_removed; ++i) {
       const std::uint32_t f = p.removed[i];
       face_alive_[f] = 0;
@@ -1136,7 +1141,6 @@ class CollapseEngine {
     // their surroundings changed.
     std::vector<VertexIndex>& ring = lane.ring;
     ring.clear();
-    const bool requeue_all = !lazy_ || was_free(p);
     if (requeue_all) requeued_[v0] = lane.clock;
     const std::uint32_t after = fresh_mark(lane);  // a wrap clears `before`: every edge is then pushed
     mark_[v0] = after;
