@@ -3,16 +3,28 @@
 // Collapse costs are non-negative floats, whose IEEE bit patterns order like unsigned
 // integers, and the queue is (almost) monotone: merged quadrics only grow, so a new cost is
 // rarely below the last one popped. A radix heap exploits that: push is O(1) and a pop moves
-// each item down at most 32 buckets over its life, all with sequential memory access — on a
-// million-edge mesh this is several times faster than a binary heap, whose sifts miss cache.
+// items only towards the smallest key, all with sequential memory access — on a million-edge
+// mesh this is several times faster than a binary heap, whose sifts miss cache.
 // A key below the last popped key is clamped to it ("process next"), which is what a greedy
 // queue would do with the cheapest item anyway.
+//
+// Keys are split into digits of 1, 2, 4 or 8 bits: a key's level is the digit in which it
+// first differs from the last popped key, its bucket that digit's value. With 8-bit digits an
+// item moves at most three times before it is popped (level 3 to 0), where the textbook heap
+// with one bucket per bit (1-bit digits) moved each item ~11 times (the D-sub at 1%: a refill
+// per pop, a fifth of the run's instructions). A level-0 bucket holds a single key, so the
+// next key up is found by a bit scan without moving anything. But every non-empty bucket holds
+// a block, and wide digits keep hundreds of buckets non-empty: the parallel phase's hundreds of
+// small queues at 14M faces took 1.6x as long with 8-bit digits (allocator churn and pages),
+// so they keep 1-bit digits and the one serial queue takes 8 (simplify.cpp). The pop order is
+// a function of the pushes alone (the smallest key, and among equal keys the last pushed),
+// whatever the digits: equal keys always share a bucket, in the order pushed.
 //
 // Each bucket is a chain of fixed 4 KiB blocks, not a growing array: a bucket never copies
 // its items to grow, and the blocks a refill empties are refilled at once by the buckets it
 // fills, so the memory stays mapped and in cache. (Growing arrays copied every entry about
-// twice and faulted in fresh pages for each copy: 8% of a run on the dragon.) Each bucket
-// wastes at most one part-filled block, a few KiB per heap.
+// twice and faulted in fresh pages for each copy: 8% of a run on the dragon.) Each non-empty
+// bucket wastes at most one part-filled block.
 #pragma once
 
 #include <algorithm>
@@ -32,8 +44,20 @@ class RadixHeap {
   static_assert(std::is_trivially_copyable_v<T>);
 
  public:
-  RadixHeap() = default;
-  RadixHeap(const RadixHeap& other) : bulk_(other.bulk_), last_(other.last_), size_(other.size_) {
+  /// digit_bits: 1, 2, 4 or 8 (wider: fewer moves per item, more blocks held; see above).
+  explicit RadixHeap(int digit_bits = 1)
+      : digit_bits_(digit_bits),
+        digit_mask_((1u << digit_bits) - 1),
+        level_shift_(__builtin_ctz(static_cast<unsigned>(digit_bits))),
+        spare_limit_(digit_bits >= 8 ? 512 : 4) {}
+  RadixHeap(const RadixHeap& other)
+      : digit_bits_(other.digit_bits_),
+        digit_mask_(other.digit_mask_),
+        level_shift_(other.level_shift_),
+        spare_limit_(other.spare_limit_),
+        bulk_(other.bulk_),
+        last_(other.last_),
+        size_(other.size_) {
     for (std::size_t b = 0; b < buckets_.size(); ++b)
       for (const Block* block = other.buckets_[b].oldest; block != nullptr; block = block->newer)
         for (std::uint32_t i = 0; i < block->count; ++i) append(static_cast<int>(b), block->items[i]);
@@ -79,28 +103,29 @@ class RadixHeap {
 
   /// Removes and returns an item with the smallest key; among equal keys the last pushed.
   T pop() {
-    if (buckets_[0].newest == nullptr) refill_first_bucket();
+    if (buckets_[current()].newest == nullptr) advance();
     --size_;
     return take_first();
   }
 
   /// The smallest key (the heap must not be empty).
   std::uint32_t min_key() {
-    if (buckets_[0].newest == nullptr) refill_first_bucket();
+    if (buckets_[current()].newest == nullptr) advance();
     return last_;
   }
 
   /// Pops an item with the smallest key into `out` if that key is at most `limit`.
   bool pop_at_most(std::uint32_t limit, T& out) {
     if (size_ == 0) return false;
-    if (buckets_[0].newest == nullptr) refill_first_bucket();
-    if (last_ > limit) return false;  // bucket 0 holds exactly the keys equal to last_
+    if (buckets_[current()].newest == nullptr) advance();
+    if (last_ > limit) return false;  // the current bucket holds exactly the keys equal to last_
     out = take_first();
     --size_;
     return true;
   }
 
-  /// Appends every item to `into` (bucket by bucket, oldest first) and empties the heap.
+  /// Appends every item to `into` (bucket by bucket, oldest first: equal keys in the order
+  /// pushed) and empties the heap.
   void take_all(Container& into) {
     into.insert(into.end(), bulk_.begin(), bulk_.end());  // when there is bulk, no bucket has items
     for (const Bucket& bucket : buckets_)
@@ -143,7 +168,7 @@ class RadixHeap {
       bucket.newest = write;
       if (at == 0) {  // nothing kept in the bucket's first block either
         bucket.oldest = bucket.newest = nullptr;
-        nonempty_ &= ~bucket_bit(static_cast<int>(&bucket - buckets_.data()));
+        mark_empty(static_cast<int>(&bucket - buckets_.data()));
         give_back(write);
       }
       while (rest != nullptr) {
@@ -174,18 +199,44 @@ class RadixHeap {
     Block* oldest = nullptr;
     Block* newest = nullptr;
   };
-  // Emptied blocks kept for reuse, beyond them freed: a refill hands its blocks over one by
-  // one, and a lane of the parallel phase should hold little it does not use.
-  static constexpr std::size_t kSpareBlocks = 4;
+  // Emptied blocks kept for reuse (spare_limit_), beyond them freed: a refill hands its blocks
+  // over one by one, and a lane of the parallel phase should hold little it does not use. Wide
+  // digits empty and refill buckets of a few items at every few pops: 64 spares (4 KiB blocks)
+  // took the D-sub's allocator calls from 6% of the run to under 1%.
 
-  int bucket_of(std::uint32_t key) const { return key == last_ ? 0 : 32 - __builtin_clz(key ^ last_); }
-  static std::uint64_t bucket_bit(int b) { return std::uint64_t(1) << b; }
+  static constexpr int kBuckets = 4 << 8;  // the most levels x digits: 8-bit digits (1-bit: 32 x 2)
+  static constexpr int kWords = kBuckets / 64;
+  static_assert(kWords <= 64, "one summary bit per word of the bucket mask");
+
+  // Level (the highest digit in which key differs from last_) times the digits per level, plus
+  // key's digit there. Bucket indices order like the keys they hold, and last_ itself is in
+  // bucket current().
+  int bucket_of(std::uint32_t key) const {
+    const std::uint32_t differs = key ^ last_;
+    const int level = differs == 0 ? 0 : (31 - __builtin_clz(differs)) >> level_shift_;
+    return (level << digit_bits_) | static_cast<int>((key >> (level << level_shift_)) & digit_mask_);
+  }
+  int current() const { return static_cast<int>(last_ & digit_mask_); }
+
+  void mark_nonempty(int b) {
+    nonempty_[b >> 6] |= std::uint64_t(1) << (b & 63);
+    nonempty_words_ |= std::uint64_t(1) << (b >> 6);
+  }
+  void mark_empty(int b) {
+    nonempty_[b >> 6] &= ~(std::uint64_t(1) << (b & 63));
+    if (nonempty_[b >> 6] == 0) nonempty_words_ &= ~(std::uint64_t(1) << (b >> 6));
+  }
+  // The lowest non-empty bucket (the heap must hold an item outside the bulk).
+  int lowest_nonempty() const {
+    const int w = __builtin_ctzll(nonempty_words_);
+    return (w << 6) | __builtin_ctzll(nonempty_[w]);
+  }
 
   void append(int b, const T& item) {
     Bucket& bucket = buckets_[b];
-    nonempty_ |= bucket_bit(b);
     Block* block = bucket.newest;
     if (block == nullptr || block->count == kBlockItems) {
+      if (block == nullptr) mark_nonempty(b);
       Block* fresh = new_block();
       fresh->older = block;
       fresh->newer = nullptr;
@@ -199,9 +250,10 @@ class RadixHeap {
     block->items[block->count++] = item;
   }
 
-  // The newest item of bucket 0 (the smallest key, last pushed among equals).
+  // The newest item of the current bucket (the smallest key, last pushed among equals).
   T take_first() {
-    Bucket& bucket = buckets_[0];
+    const int b = current();
+    Bucket& bucket = buckets_[b];
     Block* block = bucket.newest;
     const T item = block->items[--block->count];
     if (block->count == 0) {
@@ -210,26 +262,29 @@ class RadixHeap {
         bucket.newest->newer = nullptr;
       } else {
         bucket.oldest = nullptr;
-        nonempty_ &= ~bucket_bit(0);
+        mark_empty(b);
       }
       give_back(block);
     }
     return item;
   }
 
-  void refill_first_bucket() {
+  // Makes last_ the smallest key queued (the current bucket is empty, the heap is not).
+  void advance() {
     if (!bulk_.empty()) return spread_bulk();
-    // The lowest non-empty bucket above 0 (the heap is not empty, and bucket 0 is). Scanning
-    // the buckets' heads instead cost QB 1.4% more instructions on the dragon.
-    const int i = __builtin_ctzll(nonempty_);
+    const int i = lowest_nonempty();
+    if (i <= static_cast<int>(digit_mask_)) {  // level 0: a bucket of one key, now the current one
+      last_ = (last_ & ~digit_mask_) | static_cast<std::uint32_t>(i);
+      return;
+    }
     std::uint32_t smallest = UINT32_MAX;
     for (const Block* block = buckets_[i].oldest; block != nullptr; block = block->newer)
       for (std::uint32_t k = 0; k < block->count; ++k) smallest = std::min(smallest, block->items[k].key);
     last_ = smallest;
-    // Every item goes to a lower bucket, oldest first; each emptied block is reused at once.
+    // Every item goes to a lower level, oldest first; each emptied block is reused at once.
     Block* block = buckets_[i].oldest;
     buckets_[i] = Bucket{};
-    nonempty_ &= ~bucket_bit(i);
+    mark_empty(i);
     while (block != nullptr) {
       for (std::uint32_t k = 0; k < block->count; ++k) append(bucket_of(block->items[k].key), block->items[k]);
       Block* next = block->newer;
@@ -262,7 +317,7 @@ class RadixHeap {
   }
 
   void give_back(Block* block) {
-    if (spare_count_ >= kSpareBlocks) {
+    if (spare_count_ >= spare_limit_) {
       ::operator delete(block);
       return;
     }
@@ -290,15 +345,21 @@ class RadixHeap {
       }
       bucket = Bucket{};
     }
-    nonempty_ = 0;
+    nonempty_ = {};
+    nonempty_words_ = 0;
     Container().swap(bulk_);
     last_ = 0;
     size_ = 0;
   }
 
   void swap(RadixHeap& other) noexcept {
+    std::swap(digit_bits_, other.digit_bits_);
+    std::swap(digit_mask_, other.digit_mask_);
+    std::swap(level_shift_, other.level_shift_);
+    std::swap(spare_limit_, other.spare_limit_);
     std::swap(buckets_, other.buckets_);
     std::swap(nonempty_, other.nonempty_);
+    std::swap(nonempty_words_, other.nonempty_words_);
     bulk_.swap(other.bulk_);
     std::swap(last_, other.last_);
     std::swap(size_, other.size_);
@@ -306,8 +367,13 @@ class RadixHeap {
     std::swap(spare_count_, other.spare_count_);
   }
 
-  std::array<Bucket, 33> buckets_{};
-  std::uint64_t nonempty_ = 0;  // bit b: buckets_[b] holds items
+  int digit_bits_ = 1;
+  std::uint32_t digit_mask_ = 1;
+  int level_shift_ = 0;  // log2 of digit_bits_
+  std::size_t spare_limit_ = 4;
+  std::array<Bucket, kBuckets> buckets_{};
+  std::array<std::uint64_t, kWords> nonempty_{};  // bit b: buckets_[b] holds items
+  std::uint64_t nonempty_words_ = 0;               // bit w: nonempty_[w] != 0
   Container bulk_;  // items given by assign(), not yet spread
   std::uint32_t last_ = 0;
   std::size_t size_ = 0;
