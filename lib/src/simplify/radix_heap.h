@@ -20,9 +20,9 @@
 // a function of the pushes alone (the smallest key, and among equal keys the last pushed),
 // whatever the digits: equal keys always share a bucket, in the order pushed.
 //
-// Each bucket is a chain of fixed 4 KiB blocks, not a growing array: a bucket never copies
-// its items to grow, and the blocks a refill empties are refilled at once by the buckets it
-// fills, so the memory stays mapped and in cache. (Growing arrays copied every entry about
+// Each bucket is a chain of fixed-size blocks (4 KiB; 1 KiB under 8-bit digits), not a
+// growing array: a bucket never copies its items to grow, and the blocks a refill empties are
+// refilled at once by the buckets it fills, so the memory stays mapped and in cache. (Growing arrays copied every entry about
 // twice and faulted in fresh pages for each copy: 8% of a run on the dragon.) Each non-empty
 // bucket wastes at most one part-filled block.
 #pragma once
@@ -49,18 +49,22 @@ class RadixHeap {
       : digit_bits_(digit_bits),
         digit_mask_((1u << digit_bits) - 1),
         level_shift_(__builtin_ctz(static_cast<unsigned>(digit_bits))),
-        spare_limit_(digit_bits >= 8 ? 512 : 4) {}
+        spare_limit_(digit_bits >= 8 ? 512 : 4),
+        block_bytes_(digit_bits >= 8 ? 1024 : 4096),
+        block_items_(static_cast<std::uint32_t>((block_bytes_ - kItemsOffset) / sizeof(T))) {}
   RadixHeap(const RadixHeap& other)
       : digit_bits_(other.digit_bits_),
         digit_mask_(other.digit_mask_),
         level_shift_(other.level_shift_),
         spare_limit_(other.spare_limit_),
+        block_bytes_(other.block_bytes_),
+        block_items_(other.block_items_),
         bulk_(other.bulk_),
         last_(other.last_),
         size_(other.size_) {
     for (std::size_t b = 0; b < buckets_.size(); ++b)
       for (const Block* block = other.buckets_[b].oldest; block != nullptr; block = block->newer)
-        for (std::uint32_t i = 0; i < block->count; ++i) append(static_cast<int>(b), block->items[i]);
+        for (std::uint32_t i = 0; i < block->count; ++i) append(static_cast<int>(b), block->items()[i]);
   }
   RadixHeap(RadixHeap&& other) noexcept { swap(other); }
   RadixHeap& operator=(RadixHeap other) noexcept {
@@ -130,7 +134,7 @@ class RadixHeap {
     into.insert(into.end(), bulk_.begin(), bulk_.end());  // when there is bulk, no bucket has items
     for (const Bucket& bucket : buckets_)
       for (const Block* block = bucket.oldest; block != nullptr; block = block->newer)
-        into.insert(into.end(), block->items, block->items + block->count);
+        into.insert(into.end(), block->items(), block->items() + block->count);
     clear();
     release_spare_blocks(0);
   }
@@ -152,12 +156,12 @@ class RadixHeap {
       std::uint32_t at = 0;
       for (Block* read = bucket.oldest; read != nullptr; read = read->newer) {
         for (std::uint32_t i = 0; i < read->count; ++i) {
-          if (drop(read->items[i])) continue;
-          if (at == kBlockItems) {
+          if (drop(read->items()[i])) continue;
+          if (at == block_items_) {
             write = write->newer;
             at = 0;
           }
-          write->items[at++] = read->items[i];
+          put(write, at++, read->items()[i]);
           ++size_;
         }
       }
@@ -180,29 +184,29 @@ class RadixHeap {
   }
 
  private:
-  static constexpr std::size_t kBlockBytes = 4096;
-  struct BlockHeader {
-    BlockHeader* older;
-    BlockHeader* newer;
-    std::uint32_t count;
-  };
-  static constexpr std::uint32_t kBlockItems =
-      static_cast<std::uint32_t>((kBlockBytes - sizeof(BlockHeader)) / sizeof(T));
-  static_assert(kBlockItems >= 16, "items too large for a block");
+  // A block: this header, then its items up to block_bytes_ (1 KiB under 8-bit digits, whose
+  // hundreds of non-empty buckets each hold a part-filled block; 4 KiB otherwise).
   struct Block {
     Block* older;
     Block* newer;
     std::uint32_t count;
-    T items[kBlockItems];
+    T* items() { return reinterpret_cast<T*>(reinterpret_cast<unsigned char*>(this) + kItemsOffset); }
+    const T* items() const {
+      return reinterpret_cast<const T*>(reinterpret_cast<const unsigned char*>(this) + kItemsOffset);
+    }
   };
+  static constexpr std::size_t kItemsOffset = (sizeof(Block) + alignof(T) - 1) / alignof(T) * alignof(T);
+  static_assert(kItemsOffset + 16 * sizeof(T) <= 1024, "items too large for a block");
+  // Copies an item into a block's slot (an object created there, not assigned over raw memory).
+  static void put(Block* block, std::uint32_t slot, const T& item) { new (block->items() + slot) T(item); }
   struct Bucket {
     Block* oldest = nullptr;
     Block* newest = nullptr;
   };
   // Emptied blocks kept for reuse (spare_limit_), beyond them freed: a refill hands its blocks
   // over one by one, and a lane of the parallel phase should hold little it does not use. Wide
-  // digits empty and refill buckets of a few items at every few pops: 64 spares (4 KiB blocks)
-  // took the D-sub's allocator calls from 6% of the run to under 1%.
+  // digits empty and refill buckets of a few items at every few pops: with four spares the
+  // allocator took 6% of the D-sub's run at 1%, with 512 (the one serial queue's) under 1%.
 
   static constexpr int kBuckets = 4 << 8;  // the most levels x digits: 8-bit digits (1-bit: 32 x 2)
   static constexpr int kWords = kBuckets / 64;
@@ -235,7 +239,7 @@ class RadixHeap {
   void append(int b, const T& item) {
     Bucket& bucket = buckets_[b];
     Block* block = bucket.newest;
-    if (block == nullptr || block->count == kBlockItems) {
+    if (block == nullptr || block->count == block_items_) {
       if (block == nullptr) mark_nonempty(b);
       Block* fresh = new_block();
       fresh->older = block;
@@ -247,7 +251,7 @@ class RadixHeap {
         bucket.oldest = fresh;
       bucket.newest = block = fresh;
     }
-    block->items[block->count++] = item;
+    put(block, block->count++, item);
   }
 
   // The newest item of the current bucket (the smallest key, last pushed among equals).
@@ -255,7 +259,7 @@ class RadixHeap {
     const int b = current();
     Bucket& bucket = buckets_[b];
     Block* block = bucket.newest;
-    const T item = block->items[--block->count];
+    const T item = block->items()[--block->count];
     if (block->count == 0) {
       bucket.newest = block->older;
       if (bucket.newest != nullptr) {
@@ -279,14 +283,14 @@ class RadixHeap {
     }
     std::uint32_t smallest = UINT32_MAX;
     for (const Block* block = buckets_[i].oldest; block != nullptr; block = block->newer)
-      for (std::uint32_t k = 0; k < block->count; ++k) smallest = std::min(smallest, block->items[k].key);
+      for (std::uint32_t k = 0; k < block->count; ++k) smallest = std::min(smallest, block->items()[k].key);
     last_ = smallest;
     // Every item goes to a lower level, oldest first; each emptied block is reused at once.
     Block* block = buckets_[i].oldest;
     buckets_[i] = Bucket{};
     mark_empty(i);
     while (block != nullptr) {
-      for (std::uint32_t k = 0; k < block->count; ++k) append(bucket_of(block->items[k].key), block->items[k]);
+      for (std::uint32_t k = 0; k < block->count; ++k) append(bucket_of(block->items()[k].key), block->items()[k]);
       Block* next = block->newer;
       give_back(block);
       block = next;
@@ -326,11 +330,11 @@ class RadixHeap {
       slab_free_ = block->newer;
       return block;
     }
-    if ((slab_carved_ + 1) * sizeof(Block) <= slab_read_ * sizeof(T)) {
-      unsigned char* at = reinterpret_cast<unsigned char*>(slab_.data()) + slab_carved_++ * sizeof(Block);
+    if ((slab_carved_ + 1) * block_bytes_ <= slab_read_ * sizeof(T)) {
+      unsigned char* at = reinterpret_cast<unsigned char*>(slab_.data()) + slab_carved_++ * block_bytes_;
       return new (at) Block;
     }
-    if (spare_ == nullptr) return static_cast<Block*>(::operator new(sizeof(Block)));
+    if (spare_ == nullptr) return new (::operator new(block_bytes_)) Block;
     Block* block = spare_;
     spare_ = block->newer;
     --spare_count_;
@@ -339,7 +343,7 @@ class RadixHeap {
 
   bool in_slab(const Block* block) const {
     const auto at = reinterpret_cast<std::uintptr_t>(block), begin = reinterpret_cast<std::uintptr_t>(slab_.data());
-    return at >= begin && at < begin + slab_carved_ * sizeof(Block);
+    return at >= begin && at < begin + slab_carved_ * block_bytes_;
   }
 
   void give_back(Block* block) {
@@ -391,6 +395,8 @@ class RadixHeap {
     std::swap(digit_mask_, other.digit_mask_);
     std::swap(level_shift_, other.level_shift_);
     std::swap(spare_limit_, other.spare_limit_);
+    std::swap(block_bytes_, other.block_bytes_);
+    std::swap(block_items_, other.block_items_);
     std::swap(buckets_, other.buckets_);
     std::swap(nonempty_, other.nonempty_);
     std::swap(nonempty_words_, other.nonempty_words_);
@@ -409,6 +415,8 @@ class RadixHeap {
   std::uint32_t digit_mask_ = 1;
   int level_shift_ = 0;  // log2 of digit_bits_
   std::size_t spare_limit_ = 4;
+  std::size_t block_bytes_ = 4096;
+  std::uint32_t block_items_ = static_cast<std::uint32_t>((4096 - kItemsOffset) / sizeof(T));
   std::array<Bucket, kBuckets> buckets_{};
   std::array<std::uint64_t, kWords> nonempty_{};  // bit b: buckets_[b] holds items
   std::uint64_t nonempty_words_ = 0;               // bit w: nonempty_[w] != 0
