@@ -14,6 +14,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace visimp::detail {
@@ -110,16 +111,22 @@ class VectorRadixHeap {
   std::size_t size_ = 0;
 };
 
-using BlockHeap = RadixHeap<Item, std::vector<Item>>;
-
 // Every test runs with each digit width the engine uses: the pop order must not depend on it.
-class RadixHeapDigits : public ::testing::TestWithParam<int> {};
-INSTANTIATE_TEST_SUITE_P(RadixHeap, RadixHeapDigits, ::testing::Values(1, 8),
-                         [](const ::testing::TestParamInfo<int>& digits) { return std::to_string(digits.param) + "BitDigits"; });
+template <class Heap>
+class RadixHeapDigits : public ::testing::Test {};
+struct DigitsName {
+  template <class Heap>
+  static std::string GetName(int) {
+    return std::is_same_v<Heap, RadixHeap<Item, std::vector<Item>, 1>> ? "BitDigits" : "ByteDigits";
+  }
+};
+using DigitWidths = ::testing::Types<RadixHeap<Item, std::vector<Item>, 1>, RadixHeap<Item, std::vector<Item>, 8>>;
+TYPED_TEST_SUITE(RadixHeapDigits, DigitWidths, DigitsName);
 
 // Runs `steps` random operations on both queues; keys rise slowly like collapse costs, with
 // some below the last popped (clamped), many ties and now and then a huge one.
-void run_against_model(BlockHeap& heap, VectorRadixHeap& model, std::mt19937& rng, int steps, std::uint32_t& next_id) {
+template <class Heap>
+void run_against_model(Heap& heap, VectorRadixHeap& model, std::mt19937& rng, int steps, std::uint32_t& next_id) {
   std::multiset<std::uint32_t> keys;  // the model's keys, clamped as pushed
   std::uint32_t floor = 0;            // about the last popped key, for drawing keys
   for (VectorRadixHeap drained = model; !drained.empty();) keys.insert(drained.pop().key);
@@ -159,7 +166,7 @@ void run_against_model(BlockHeap& heap, VectorRadixHeap& model, std::mt19937& rn
       heap.remove_if(drop);
       model.remove_if(drop);
       std::vector<Item> left;
-      BlockHeap copy = heap;  // the copy's order is the heap's
+      Heap copy = heap;  // the copy's order is the heap's
       VectorRadixHeap model_copy = model;
       keys.clear();
       while (!model_copy.empty()) {
@@ -173,10 +180,10 @@ void run_against_model(BlockHeap& heap, VectorRadixHeap& model, std::mt19937& rn
   }
 }
 
-TEST_P(RadixHeapDigits, SameOrderAsOneVectorPerBucket) {
+TYPED_TEST(RadixHeapDigits, SameOrderAsOneVectorPerBucket) {
   std::mt19937 rng(7);
   std::uint32_t next_id = 0;
-  BlockHeap heap(GetParam());
+  TypeParam heap;
   VectorRadixHeap model;
   run_against_model(heap, model, rng, 60000, next_id);
   // Drained: both end together, in the same order.
@@ -184,12 +191,12 @@ TEST_P(RadixHeapDigits, SameOrderAsOneVectorPerBucket) {
   EXPECT_TRUE(heap.empty());
 }
 
-TEST_P(RadixHeapDigits, AssignedItemsAreTheOldestOfTheTopBucket) {
+TYPED_TEST(RadixHeapDigits, AssignedItemsAreTheOldestOfTheTopBucket) {
   std::mt19937 rng(11);
   std::uint32_t next_id = 0;
   std::vector<Item> initial;
   for (int i = 0; i < 50000; ++i) initial.push_back({std::uint32_t(std::uint32_t(rng()) % 5000), next_id++});
-  BlockHeap heap(GetParam());
+  TypeParam heap;
   VectorRadixHeap model;
   heap.assign(std::vector<Item>(initial));
   model.assign(initial);
@@ -205,12 +212,12 @@ TEST_P(RadixHeapDigits, AssignedItemsAreTheOldestOfTheTopBucket) {
 
 // The parallel phase fills each partition's queue with assign_spread from a scratch array it
 // then frees: the queue must pop in the order assign() gives, through pushes and refills.
-TEST_P(RadixHeapDigits, AssignSpreadPopsAsAssignDoes) {
+TYPED_TEST(RadixHeapDigits, AssignSpreadPopsAsAssignDoes) {
   std::mt19937 rng(13);
   std::uint32_t next_id = 0;
   std::vector<Item> initial;
   for (int i = 0; i < 40000; ++i) initial.push_back({std::uint32_t(std::uint32_t(rng()) % 70000) + 900, next_id++});
-  BlockHeap heap(GetParam());
+  TypeParam heap;
   VectorRadixHeap model;
   heap.push({1, next_id++});  // emptied by the assignment
   heap.assign_spread(initial);
@@ -226,10 +233,10 @@ TEST_P(RadixHeapDigits, AssignSpreadPopsAsAssignDoes) {
   EXPECT_EQ(heap.pop(), (Item{3, 1}));
 }
 
-TEST_P(RadixHeapDigits, TakeAllHandsOverEqualKeysInPushOrderAndEmpties) {
+TYPED_TEST(RadixHeapDigits, TakeAllHandsOverEqualKeysInPushOrderAndEmpties) {
   std::mt19937 rng(3);
   std::uint32_t next_id = 0;
-  BlockHeap heap(GetParam());
+  TypeParam heap;
   VectorRadixHeap model;
   heap.assign(std::vector<Item>{{5, next_id++}, {1u << 30, next_id++}});
   model.assign({{5, 0}, {1u << 30, 1}});
@@ -252,13 +259,13 @@ TEST_P(RadixHeapDigits, TakeAllHandsOverEqualKeysInPushOrderAndEmpties) {
   EXPECT_EQ(heap.pop(), (Item{0, 1}));
 }
 
-TEST_P(RadixHeapDigits, MovedAndCopiedHeapsKeepTheirItems) {
+TYPED_TEST(RadixHeapDigits, MovedAndCopiedHeapsKeepTheirItems) {
   std::mt19937 rng(5);
   std::uint32_t next_id = 0;
-  BlockHeap heap(GetParam());
+  TypeParam heap;
   VectorRadixHeap model;
   run_against_model(heap, model, rng, 20000, next_id);
-  std::vector<BlockHeap> lanes;
+  std::vector<TypeParam> lanes;
   lanes.push_back(heap);                // a copy
   lanes.push_back(std::move(heap));     // the original, moved
   lanes.resize(40);                     // moved again as the vector grows

@@ -120,6 +120,40 @@ struct CollapseProfile {
   double error = 0;  // RMS plane distance in the unit frame (= relative to the diagonal)
 };
 
+// A lane's queue. The serial loop's splits its keys by bytes (an entry moves at most three
+// times before it is popped); a partition's by bits, whose fewer non-empty buckets hold fewer
+// part-filled blocks over hundreds of partitions at 14M faces (radix_heap.h). Both pop in the
+// same order, so which one a lane uses changes no result. The two are types of their own, each
+// compiled for its digits: one class choosing at run time cost the partitions' queues a
+// quarter more instructions (the dragon at 10%).
+class Queue {
+ public:
+  void sort_by_bytes() { by_bytes_ = true; }  // before anything is queued
+  bool empty() const { return by_bytes_ ? bytes_.empty() : bits_.empty(); }
+  std::size_t size() const { return by_bytes_ ? bytes_.size() : bits_.size(); }
+  void push(const HeapEntry& e) { by_bytes_ ? bytes_.push(e) : bits_.push(e); }
+  HeapEntry pop() { return by_bytes_ ? bytes_.pop() : bits_.pop(); }
+  std::uint32_t min_key() { return by_bytes_ ? bytes_.min_key() : bits_.min_key(); }
+  bool pop_at_most(std::uint32_t limit, HeapEntry& out) {
+    return by_bytes_ ? bytes_.pop_at_most(limit, out) : bits_.pop_at_most(limit, out);
+  }
+  void assign(Entries&& items) { by_bytes_ ? bytes_.assign(std::move(items)) : bits_.assign(std::move(items)); }
+  template <class Items>
+  void assign_spread(const Items& items) {
+    by_bytes_ ? bytes_.assign_spread(items) : bits_.assign_spread(items);
+  }
+  void take_all(Entries& into) { by_bytes_ ? bytes_.take_all(into) : bits_.take_all(into); }
+  template <class Pred>
+  void remove_if(Pred drop) {
+    by_bytes_ ? bytes_.remove_if(drop) : bits_.remove_if(drop);
+  }
+
+ private:
+  detail::RadixHeap<HeapEntry, Entries, 1> bits_;
+  detail::RadixHeap<HeapEntry, Entries, 8> bytes_;
+  bool by_bytes_ = false;
+};
+
 struct MovedFace {
   std::uint32_t face;
   Vec3 n_old, n_new;  // unnormalised normals before and after the candidate collapse
@@ -131,7 +165,7 @@ struct MovedFace {
 // A cache line of its own: lanes side by side run on different threads, and each writes its
 // queue's buckets and tallies at every collapse.
 struct alignas(64) Lane {
-  detail::RadixHeap<HeapEntry, Entries> heap;
+  Queue heap;
   std::uint32_t clock = 0;    // the lane's vertices' modified_ and requeued_, and its entries' times
   std::uint32_t mark_id = 0;  // the last mark given to one of its vertices
   VertexIndex first_vertex = 0, last_vertex = 0;
@@ -152,8 +186,6 @@ struct alignas(64) Lane {
 // consecutive vertices in the engine's spatial order: a fixed size, so the result does not
 // depend on the thread count.
 constexpr std::size_t kPartitionVertices = std::size_t(1) << 15;
-// The serial queue's radix digits (radix_heap.h): 8 cut the D-sub's instructions at 1% by 10%.
-constexpr int kSerialQueueDigitBits = 8;
 // Vertices per job in the set-up's parallel loops (their results do not depend on it). Small
 // enough that a mesh under one partition splits into even jobs: at 16,384 the D-sub
 // connector's 47k vertices were 3 jobs (classify) or 2 partition-sized chunks of 32,768 and
@@ -261,9 +293,7 @@ class CollapseEngine {
     classify_vertices(options, workers);
     add_face_quadrics();
     serial_.last_vertex = static_cast<VertexIndex>(nv);
-    // The one serial queue moves its items at most three times (radix_heap.h); the parallel
-    // phase's many small queues keep the default digits, which hold fewer blocks.
-    serial_.heap = detail::RadixHeap<HeapEntry, Entries>(kSerialQueueDigitBits);
+    serial_.heap.sort_by_bytes();
     phase_depth_ = phase_depth;
     // From here on the engine reads only the input's positions and qualities: a given-up
     // input shrinks before the queue is costed, the set-up's largest allocation.
