@@ -8,7 +8,7 @@
 // A key below the last popped key is clamped to it ("process next"), which is what a greedy
 // queue would do with the cheapest item anyway.
 //
-// Keys are split into digits of 1, 2, 4 or 8 bits: a key's level is the digit in which it
+// Keys are split into digits of 1 or 8 bits: a key's level is the digit in which it
 // first differs from the last popped key, its bucket that digit's value. With 8-bit digits an
 // item moves at most three times before it is popped (level 3 to 0), where the textbook heap
 // with one bucket per bit (1-bit digits) moved each item ~11 times (the D-sub at 1%: a refill
@@ -22,9 +22,9 @@
 //
 // Each bucket is a chain of fixed-size blocks (4 KiB; 1 KiB under 8-bit digits), not a
 // growing array: a bucket never copies its items to grow, and the blocks a refill empties are
-// refilled at once by the buckets it fills, so the memory stays mapped and in cache. (Growing arrays copied every entry about
-// twice and faulted in fresh pages for each copy: 8% of a run on the dragon.) Each non-empty
-// bucket wastes at most one part-filled block.
+// refilled at once by the buckets it fills, so the memory stays mapped and in cache. (Growing
+// arrays copied every entry about twice and faulted in fresh pages for each copy: 8% of a run
+// on the dragon.) Each non-empty bucket wastes at most one part-filled block.
 #pragma once
 
 #include <algorithm>
@@ -38,19 +38,16 @@
 namespace visimp::detail {
 
 /// T must be trivially copyable with a `std::uint32_t key` member. Container (a vector of T)
-/// is what assign() takes and take_all() fills. kDigitBits: 1, 2, 4 or 8 (wider: fewer moves
-/// per item, more blocks held; see above).
+/// is what assign() takes and take_all() fills. kDigitBits: 1 or 8 (wider: fewer moves per
+/// item, more blocks held; see above).
 template <class T, class Container, int kDigitBits = 1>
 class RadixHeap {
   static_assert(std::is_trivially_copyable_v<T>);
-  static_assert(kDigitBits == 1 || kDigitBits == 2 || kDigitBits == 4 || kDigitBits == 8);
+  static_assert(kDigitBits == 1 || kDigitBits == 8);
 
  public:
   RadixHeap() = default;
-  RadixHeap(const RadixHeap& other)
-      : bulk_(other.bulk_),
-        last_(other.last_),
-        size_(other.size_) {
+  RadixHeap(const RadixHeap& other) : bulk_(other.bulk_), last_(other.last_), size_(other.size_) {
     for (std::size_t b = 0; b < buckets_.size(); ++b)
       for (const Block* block = other.buckets_[b].oldest; block != nullptr; block = block->newer)
         for (std::uint32_t i = 0; i < block->count; ++i) append(static_cast<int>(b), block->items()[i]);
@@ -194,30 +191,28 @@ class RadixHeap {
     Block* oldest = nullptr;
     Block* newest = nullptr;
   };
-  // Emptied blocks kept for reuse (kSpareLimit), beyond them freed: a refill hands its blocks
-  // over one by one, and a lane of the parallel phase should hold little it does not use. Wide
-  // digits empty and refill buckets of a few items at every few pops: with four spares the
-  // allocator took 6% of the D-sub's run at 1%, with 512 (the one serial queue's) under 1%.
+  // Emptied blocks kept for reuse, beyond them freed: a refill hands its blocks over one by
+  // one, and a lane of the parallel phase should hold little it does not use. Byte digits
+  // empty and refill buckets of a few items at every few pops: with four spares the allocator
+  // took 6% of the D-sub's run at 1%, with 512 (the one serial queue's) under 1%.
+  static constexpr std::size_t kSpareLimit = kDigitBits >= 8 ? 512 : 4;
 
   static constexpr std::uint32_t kDigitMask = (1u << kDigitBits) - 1;
-  static constexpr int kLevelShift = kDigitBits == 1 ? 0 : kDigitBits == 2 ? 1 : kDigitBits == 4 ? 2 : 3;
-  static constexpr std::size_t kSpareLimit = kDigitBits >= 8 ? 512 : 4;
-  static constexpr int kBuckets = kDigitBits == 1 ? 33 : (32 / kDigitBits) << kDigitBits;  // levels x digits
+  static constexpr int kBuckets = kDigitBits == 1 ? 33 : 4 << 8;  // bits: last_ and 32; bytes: 4 levels x 256
   static constexpr int kWords = (kBuckets + 63) / 64;
   static_assert(kWords <= 64, "one summary bit per word of the bucket mask");
 
-  // Level (the highest digit in which key differs from last_) times the digits per level, plus
-  // key's digit there. Bucket indices order like the keys they hold, and last_ itself is in
-  // bucket current(). One-bit digits keep the textbook layout (bucket 0: last_; bucket i: keys
-  // whose highest bit unlike last_'s is bit i - 1), whose arithmetic is shorter: the generic
-  // one cost the parallel phase's queues a quarter more instructions (the dragon at 10%).
+  // Bytes: the level (the highest byte in which key differs from last_) times 256, plus key's
+  // byte there. Bits: the textbook layout (bucket 0: last_; bucket i: keys whose highest bit
+  // unlike last_'s is bit i - 1). Either way bucket indices order like the keys they hold, and
+  // last_ itself is in bucket current().
   int bucket_of(std::uint32_t key) const {
     const std::uint32_t differs = key ^ last_;
     if constexpr (kDigitBits == 1) {
       return differs == 0 ? 0 : 32 - __builtin_clz(differs);
     } else {
-      const int level = differs == 0 ? 0 : (31 - __builtin_clz(differs)) >> kLevelShift;
-      return (level << kDigitBits) | static_cast<int>((key >> (level << kLevelShift)) & kDigitMask);
+      const int level = differs == 0 ? 0 : (31 - __builtin_clz(differs)) / 8;
+      return (level << 8) | static_cast<int>((key >> (level * 8)) & kDigitMask);
     }
   }
   int current() const { return kDigitBits == 1 ? 0 : static_cast<int>(last_ & kDigitMask); }
@@ -304,8 +299,7 @@ class RadixHeap {
   // in five of the D-sub's page faults in simplify()), and at 14M faces the serial queue's
   // blocks no longer come on top of the array they are spread from.
   void spread_bulk() {
-    slab_.swap(bulk_);  // clear() emptied the slab before the assignment
-    Container().swap(bulk_);
+    slab_.swap(bulk_);  // bulk_ takes the slab's place, empty since clear() before the assignment
     std::uint32_t smallest = UINT32_MAX;
     for (const T& item : slab_) smallest = std::min(smallest, item.key);
     last_ = smallest;
