@@ -63,6 +63,37 @@ TEST(CostQuadric, SumsAndValuesHaveThePlainLayoutsBits) {
   EXPECT_GT(positive, 10000);  // the clamp at 0 did not make the comparison trivial
 }
 
+// place() evaluates both endpoints in one packed pass: each lane must be evaluate()'s bits, or
+// the choice between endpoints (and every output mesh) would change with the target's SIMD.
+TEST(Quadric, EvaluatePairHasEvaluatesBitsInBothLanes) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-40, 40);
+  const auto any = [&] { return std::ldexp(unit(random), exponent(random)); };
+  int positive = 0, zero = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Quadric q;
+    if (i % 2 == 0) {
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 n{unit(random), unit(random), unit(random)};
+        q += Quadric::plane(n / norm(n), {any(), any(), any()}, std::abs(any()));
+      }
+    } else {  // arbitrary coefficients, negative values (clamped) and NaN included
+      q = Quadric{any(), any(), any(), any(), any(), any(), any(), any(), any(), any(), 0};
+      if (i % 1000 == 1) q.c = std::nan("");
+    }
+    const Vec3 p{any(), any(), any()}, r{any(), any(), any()};
+    double qp = -1, qr = -1;
+    q.evaluate_pair(p, r, qp, qr);
+    ASSERT_EQ(bits_of(qp), bits_of(q.evaluate(p))) << "case " << i;
+    ASSERT_EQ(bits_of(qr), bits_of(q.evaluate(r))) << "case " << i;
+    positive += qp > 0;
+    zero += qr == 0;
+  }
+  EXPECT_GT(positive, 10000);  // neither the clamp nor the comparison is trivial
+  EXPECT_GT(zero, 1000);
+}
+
 TEST(Quadric, ThreePlanesPlaceAtTheirCorner) {
   Quadric q = Quadric::plane({1, 0, 0}, {1, 0, 0}, 1) + Quadric::plane({0, 1, 0}, {0, 2, 0}, 1) +
               Quadric::plane({0, 0, 1}, {0, 0, 3}, 1);

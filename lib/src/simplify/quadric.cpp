@@ -58,7 +58,8 @@ Placement place(const Quadric& q, const Vec3& p0, const Vec3& p1) {
   // An endpoint whose error equals the optimum up to rounding (~1e-12 of the quadric's scale)
   // is preferred: it keeps original coordinates on flat and straight parts.
   const double tolerance = 1e-12 * (trace + std::abs(q.c)) + 1e-300;
-  const double e0 = q.evaluate(p0), e1 = q.evaluate(p1);
+  double e0, e1;
+  q.evaluate_pair(p0, p1, e0, e1);
   const auto endpoint = [&] {
     return e0 <= e1 ? Placement{p0, PlacementKind::endpoint0, e0} : Placement{p1, PlacementKind::endpoint1, e1};
   };
