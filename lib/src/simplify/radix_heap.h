@@ -211,7 +211,7 @@ class RadixHeap {
     if constexpr (kDigitBits == 1) {
       return differs == 0 ? 0 : 32 - __builtin_clz(differs);
     } else {
-      const int level = differs == 0 ? 0 : (31 - __builtin_clz(differs)) / 8;
+      const int level = (31 - __builtin_clz(differs | 1u)) / 8;  // differs == 0: level 0, no branch
       return (level << 8) | static_cast<int>((key >> (level * 8)) & kDigitMask);
     }
   }

@@ -235,11 +235,9 @@ void give_back_freed_memory() {
 // Bitwise, not short-circuit: which corner holds v is data the branch predictor cannot learn.
 bool has_vertex(const Face& f, VertexIndex v) { return (f[0] == v) | (f[1] == v) | (f[2] == v); }
 
-VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) {
-  for (VertexIndex v : f)
-    if (v != a && v != b) return v;
-  return f[0];
-}
+// The corner of f that is neither a nor b, for a face that holds both (the engine's faces have
+// three distinct corners): by exclusive or, not by branches on which corner it is.
+VertexIndex third_vertex(const Face& f, VertexIndex a, VertexIndex b) { return f[0] ^ f[1] ^ f[2] ^ a ^ b; }
 
 class CollapseEngine {
  public:
@@ -625,19 +623,21 @@ class CollapseEngine {
     VertexIndex next[kClosedFanFaces], previous[kClosedFanFaces];
     for (std::size_t i = 0; i < k; ++i) {
       const Face& f = faces_[vf[i]];
-      const int c = f[0] == v ? 0 : (f[1] == v ? 1 : 2);
+      const int c = (f[1] == v) + 2 * (f[2] == v);  // v's corner, without branches
       next[i] = f[(c + 1) % 3];
       previous[i] = f[(c + 2) % 3];
     }
     std::uint8_t successor[kClosedFanFaces];
     for (std::size_t i = 0; i < k; ++i) {
-      int found = -1;
-      for (std::size_t j = 0; j < k; ++j)
-        if (previous[j] == next[i]) {
-          if (found >= 0) return false;  // an edge on three or more faces, or misoriented
-          found = static_cast<int>(j);
-        }
-      if (found < 0) return false;  // a boundary edge
+      // Every j is compared (selects, not branches): none is a boundary edge, two or more an
+      // edge on three or more faces, or misoriented.
+      int found = 0, matches = 0;
+      for (std::size_t j = 0; j < k; ++j) {
+        const bool match = previous[j] == next[i];
+        matches += match;
+        found = match ? static_cast<int>(j) : found;
+      }
+      if (matches != 1) return false;
       successor[i] = static_cast<std::uint8_t>(found);
     }
     std::size_t at = 0;
@@ -974,11 +974,13 @@ class CollapseEngine {
     return faces == 1 || (faces == 2 && outgoing == 1);
   }
 
-  bool is_dead(const HeapEntry& e) const { return !(flags_[e.v0] & kAlive) || !(flags_[e.v1] & kAlive); }
+  // (These three test both ends with bitwise operators: one branch on the answer, none on
+  // which end decided it.)
+  bool is_dead(const HeapEntry& e) const { return !(flags_[e.v0] & flags_[e.v1] & kAlive); }
   // A collapse at an end queued the edge again after this entry.
-  bool is_superseded(const HeapEntry& e) const { return requeued_[e.v0] > e.time || requeued_[e.v1] > e.time; }
+  bool is_superseded(const HeapEntry& e) const { return (requeued_[e.v0] > e.time) | (requeued_[e.v1] > e.time); }
   // An end changed after the entry was costed.
-  bool is_dated(const HeapEntry& e) const { return modified_[e.v0] > e.time || modified_[e.v1] > e.time; }
+  bool is_dated(const HeapEntry& e) const { return (modified_[e.v0] > e.time) | (modified_[e.v1] > e.time); }
   // An entry that stands for nothing: in a lazy queue a dated entry is usually its edge's only
   // one (take_current costs it again; a flagged edge may have a duplicate, popped in turn), so
   // only entries of a removed vertex and entries a collapse at an end superseded go.
