@@ -232,6 +232,13 @@ void give_back_freed_memory() {
 #endif
 }
 
+// `yes` when `condition`, else `no`, by a mask: GCC turned the ternary operator into a branch in
+// the loops below, whose conditions are data the branch predictor cannot learn.
+inline std::uint32_t select_if(bool condition, std::uint32_t yes, std::uint32_t no) {
+  const std::uint32_t mask = 0u - static_cast<std::uint32_t>(condition);
+  return (yes & mask) | (no & ~mask);
+}
+
 // Bitwise, not short-circuit: which corner holds v is data the branch predictor cannot learn.
 bool has_vertex(const Face& f, VertexIndex v) { return (f[0] == v) | (f[1] == v) | (f[2] == v); }
 
@@ -635,7 +642,7 @@ class CollapseEngine {
       for (std::size_t j = 0; j < k; ++j) {
         const bool match = previous[j] == next[i];
         matches += match;
-        found = match ? static_cast<int>(j) : found;
+        found = static_cast<int>(select_if(match, std::uint32_t(j), std::uint32_t(found)));
       }
       if (matches != 1) return false;
       successor[i] = static_cast<std::uint8_t>(found);
@@ -1073,7 +1080,7 @@ class CollapseEngine {
         // Without branches (whether a corner is a common neighbour is not predictable): a
         // corner that is not one gets its own mark back.
         const bool common_neighbor = (w != p.v0) & (w != p.v1) & (mark_[w] == v0_neighbor);
-        mark_[w] = common_neighbor ? counted : mark_[w];
+        mark_[w] = select_if(common_neighbor, counted, mark_[w]);
         common += common_neighbor;
       }
     if (common != static_cast<std::size_t>(p.num_removed)) return false;

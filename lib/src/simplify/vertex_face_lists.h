@@ -68,7 +68,10 @@ class VertexFaceLists {
     // The whole (short) list is scanned with a select, backwards so that the first match wins:
     // where f sits is not predictable, and a branch on it was mispredicted about once a call.
     std::uint32_t at = s.size;
-    for (std::uint32_t i = s.size; i-- > 0;) at = list[i] == f ? i : at;
+    for (std::uint32_t i = s.size; i-- > 0;) {
+      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(list[i] == f);  // a mask, not a branch
+      at = (i & mask) | (at & ~mask);
+    }
     if (at == s.size) return;
     list[at] = list[--s.size];
   }
