@@ -1112,6 +1112,8 @@ class CollapseEngine {
         const Face& face = faces_[f];
         Vec3 corners[3] = {positions_[face[0]], positions_[face[1]], positions_[face[2]]};
         const Vec3 n_old = cross(corners[1] - corners[0], corners[2] - corners[0]);
+        // (Branches, though mispredicted: an index computed from the comparisons took the
+        // corners out of registers, fandisk's loop +20%.)
         for (int k = 0; k < 3; ++k)
           if (face[k] == p.v0 || face[k] == p.v1) corners[k] = x;
         const Vec3 n_new = cross(corners[1] - corners[0], corners[2] - corners[0]);
@@ -1201,8 +1203,7 @@ class CollapseEngine {
     // their surroundings changed.
     // The ring is gathered first without branches (whether a corner was seen is not
     // predictable), every corner written and the count advanced only for a new one, then
-    // queued in the order the branchy loop pushed. (An index computed to replace a corner in
-    // legal() went the other way: the corners left registers, fandisk's loop +20%.)
+    // queued in the order the branchy loop pushed.
     if (requeue_all) requeued_[v0] = lane.clock;
     const std::uint32_t after = fresh_mark(lane);  // a wrap clears `before`: every edge is then pushed
     mark_[v0] = after;
