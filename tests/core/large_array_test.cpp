@@ -20,16 +20,19 @@ Array filled(std::size_t bytes) {
   return a;
 }
 
-TEST(LargeArray, MapsArraysFrom256KiBOnHugePageBoundaries) {
+TEST(LargeArray, MapsArraysFromTheWholeHugePageSizeOnHugePageBoundaries) {
 #if defined(__linux__)
   if (!huge_pages_on_4k()) GTEST_SKIP() << "pages are not 4 KiB: every array comes from operator new";
   const auto small = filled<LargeArray<std::uint32_t>>(kWholeHugePageBytes / 2);
+  const auto smallest_whole = filled<LargeArray<std::uint32_t>>(kWholeHugePageBytes);
   const auto whole = filled<LargeArray<std::uint32_t>>(std::size_t(1) << 20);  // a D-sub-sized array
   const auto large = filled<LargeArray<std::uint32_t>>(kLargeArrayBytes + 4096);
   EXPECT_EQ(mapped_bytes<true>(small.size() * sizeof(std::uint32_t)), 0u);  // operator new's
+  EXPECT_EQ(mapped_bytes<true>(smallest_whole.size() * sizeof(std::uint32_t)), kHugePageBytes);
   EXPECT_EQ(mapped_bytes<true>(whole.size() * sizeof(std::uint32_t)), kHugePageBytes);  // rounded up
   EXPECT_EQ(mapped_bytes<true>(kHugePageBytes + 1), 2 * kHugePageBytes);
   EXPECT_EQ(mapped_bytes<true>(kLargeArrayBytes + 1), kLargeArrayBytes + 1);  // not rounded: pages only
+  EXPECT_TRUE(on_huge_page_boundary(smallest_whole.data()));
   EXPECT_TRUE(on_huge_page_boundary(whole.data()));
   EXPECT_TRUE(on_huge_page_boundary(large.data()));
   EXPECT_EQ(whole.back(), whole.size() - 1);
