@@ -15,9 +15,9 @@
 //
 // A LargeArray of kWholeHugePageBytes up to kLargeArrayBytes is mapped as whole huge pages
 // (rounded up to 2 MiB): a small mesh's engine (the D-sub connector: 47k vertices, arrays of
-// 0.4-2.3 MiB) otherwise took 4,000 faults, a fifth of its run. On this project's VMs a
-// small-page fault costs ~10 µs and a whole 2 MiB huge page ~0.14 ms (512 faults: 5.4 ms), so
-// from 64 KiB (16 faults) an array is cheaper in a huge page of its own. The rounding holds at most
+// 0.4-2.3 MiB) otherwise took 4,000 faults, a fifth of its run. (Not lower: a mapped array
+// is faulted in again at every call, where malloc reuses what the last call freed. From 64 KiB
+// fandisk's first call was x0.975 and its later calls in the same process x1.13.) The rounding holds at most
 // one huge page per array, under 4 MiB arrays only: it is for arrays used to their end. An
 // array whose capacity runs ahead of its use (a reserved estimate, push_back growth) and of
 // which there may be hundreds (the parallel phase's per-partition edges) is a GrowingArray:
@@ -41,7 +41,7 @@
 namespace visimp::detail {
 
 constexpr std::size_t kLargeArrayBytes = std::size_t(4) << 20;
-constexpr std::size_t kWholeHugePageBytes = std::size_t(64) << 10;  // docs/simplify.md, "A small mesh's arrays"
+constexpr std::size_t kWholeHugePageBytes = std::size_t(256) << 10;
 constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
 
 #if defined(__linux__)
