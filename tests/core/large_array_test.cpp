@@ -77,6 +77,36 @@ TEST(LargeArray, GrowsAndShrinksThroughEverySizeClass) {
   EXPECT_EQ(a, copy);
 }
 
+// A freed whole-huge-page array's mapping serves the next array of that length (a later
+// simplify() call finds its arrays' pages resident), which starts value-initialized like any
+// new vector; the cache holds at most kHeldBytes and unmaps the rest.
+TEST(LargeArray, AFreedWholeHugePageServesTheNextArrayOfItsLength) {
+#if defined(__linux__)
+  if (!huge_pages_on_4k()) GTEST_SKIP() << "pages are not 4 KiB: every array comes from operator new";
+  const std::size_t n = (std::size_t(1) << 20) / sizeof(std::uint32_t);  // 1 MiB: one whole huge page
+  const std::uint32_t* first_data = nullptr;
+  {
+    LargeArray<std::uint32_t> first(n);
+    std::iota(first.begin(), first.end(), 1u);  // leaves no zero behind
+    first_data = first.data();
+  }
+  const LargeArray<std::uint32_t> second(n);
+  EXPECT_EQ(second.data(), first_data);
+  for (std::size_t i = 0; i < n; i += 1021) ASSERT_EQ(second[i], 0u) << i;
+  EXPECT_EQ(second.back(), 0u);
+  // More arrays than the cache holds, freed at once: each later one still works.
+  {
+    std::vector<LargeArray<std::uint32_t>> many;
+    for (std::size_t k = 0; k < WholeHugePageCache::kHeldBytes / kHugePageBytes + 4; ++k) many.emplace_back(n, 7u);
+  }
+  std::vector<LargeArray<std::uint32_t>> again;
+  for (int k = 0; k < 6; ++k) again.emplace_back(n, 3u);
+  for (const auto& a : again) EXPECT_EQ(a[n / 2], 3u);
+#else
+  GTEST_SKIP() << "huge-page mappings are Linux only";
+#endif
+}
+
 }  // namespace
 }  // namespace visimp::detail
 

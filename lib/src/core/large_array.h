@@ -15,9 +15,11 @@
 //
 // A LargeArray of kWholeHugePageBytes up to kLargeArrayBytes is mapped as whole huge pages
 // (rounded up to 2 MiB): a small mesh's engine (the D-sub connector: 47k vertices, arrays of
-// 0.4-2.3 MiB) otherwise took 4,000 faults, a fifth of its run. (Not lower: a mapped array
-// is faulted in again at every call, where malloc reuses what the last call freed. From 64 KiB
-// fandisk's first call was x0.975 and its later calls in the same process x1.13.) The rounding holds at most
+// 0.4-2.3 MiB) otherwise took 4,000 faults, a fifth of its run. On this project's VMs a
+// small-page fault costs ~10 µs and a whole 2 MiB huge page ~0.14 ms, so from 64 KiB (16
+// faults) an array is cheaper in a huge page of its own. Freed, such a mapping is kept for the
+// next array of its length (WholeHugePageCache): unmapped, it was faulted in again at every
+// call, where malloc reuses what the last call freed. The rounding holds at most
 // one huge page per array, under 4 MiB arrays only: it is for arrays used to their end. An
 // array whose capacity runs ahead of its use (a reserved estimate, push_back growth) and of
 // which there may be hundreds (the parallel phase's per-partition edges) is a GrowingArray:
@@ -30,6 +32,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <mutex>
 #include <new>
 #include <vector>
 
@@ -41,7 +44,7 @@
 namespace visimp::detail {
 
 constexpr std::size_t kLargeArrayBytes = std::size_t(4) << 20;
-constexpr std::size_t kWholeHugePageBytes = std::size_t(256) << 10;
+constexpr std::size_t kWholeHugePageBytes = std::size_t(64) << 10;  // docs/simplify.md, "Whole huge pages from 64 KiB"
 constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
 
 #if defined(__linux__)
@@ -71,6 +74,55 @@ inline void unmap_large_array(void* p, std::size_t bytes) {
   constexpr std::size_t kPage = 4096;
   munmap(p, (bytes + kPage - 1) & ~(kPage - 1));
 }
+
+// Freed whole-huge-page mappings (2 or 4 MiB), kept for the
+// next array of the same length instead of unmapped: an unmapped array is faulted in again at
+// the next call, where malloc hands a later call what the last one freed (a small mesh's
+// arrays in a loop of simplify() calls). At most kHeldBytes are held; the rest is unmapped.
+// The memory comes back as it was left (a std::vector writes every element it creates).
+class WholeHugePageCache {
+ public:
+  static constexpr std::size_t kHeldBytes = std::size_t(32) << 20;
+
+  static WholeHugePageCache& instance() {
+    // Never destroyed: an array freed during static destruction still finds it.
+    static WholeHugePageCache* const cache = new WholeHugePageCache;
+    return *cache;
+  }
+
+  // The mappings it takes: whole huge pages up to kLargeArrayBytes.
+  static bool holds_length(std::size_t mapped) { return mapped <= kLargeArrayBytes && mapped % kHugePageBytes == 0; }
+
+  void* take(std::size_t bytes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (std::size_t i = held_.size(); i-- > 0;)
+      if (held_[i].bytes == bytes) {
+        void* p = held_[i].data;
+        held_.erase(held_.begin() + static_cast<std::ptrdiff_t>(i));
+        held_bytes_ -= bytes;
+        return p;
+      }
+    return nullptr;
+  }
+
+  // False when full: the caller unmaps.
+  bool keep(void* p, std::size_t bytes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (held_bytes_ + bytes > kHeldBytes) return false;
+    held_.push_back({p, bytes});
+    held_bytes_ += bytes;
+    return true;
+  }
+
+ private:
+  struct Held {
+    void* data;
+    std::size_t bytes;
+  };
+  std::mutex mutex_;
+  std::vector<Held> held_;
+  std::size_t held_bytes_ = 0;
+};
 #endif
 
 // Advises MADV_HUGEPAGE for the whole 2 MiB pages inside [data, data + bytes), from
@@ -134,14 +186,21 @@ struct LargeArrayAllocator {
   T* allocate(std::size_t n) {
     if (n > SIZE_MAX / sizeof(T)) throw std::bad_array_new_length();
 #if defined(__linux__)
-    if (const std::size_t mapped = mapped_bytes<kWholeHugePages>(n * sizeof(T))) return static_cast<T*>(map_large_array(mapped));
+    if (const std::size_t mapped = mapped_bytes<kWholeHugePages>(n * sizeof(T))) {
+      if (WholeHugePageCache::holds_length(mapped))
+        if (void* reused = WholeHugePageCache::instance().take(mapped)) return static_cast<T*>(reused);
+      return static_cast<T*>(map_large_array(mapped));
+    }
 #endif
     return static_cast<T*>(::operator new(n * sizeof(T)));
   }
 
   void deallocate(T* p, std::size_t n) noexcept {
 #if defined(__linux__)
-    if (const std::size_t mapped = mapped_bytes<kWholeHugePages>(n * sizeof(T))) return unmap_large_array(p, mapped);
+    if (const std::size_t mapped = mapped_bytes<kWholeHugePages>(n * sizeof(T))) {
+      if (WholeHugePageCache::holds_length(mapped) && WholeHugePageCache::instance().keep(p, mapped)) return;
+      return unmap_large_array(p, mapped);
+    }
 #endif
     ::operator delete(p);
   }

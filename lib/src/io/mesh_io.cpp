@@ -139,7 +139,7 @@ std::string_view view_of(const FileBytes& bytes) {
   return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
-// A mesh file's bytes, read into one array huge-page backed from 256 KiB (core/large_array.h)
+// A mesh file's bytes, read into one array huge-page backed from 64 KiB (core/large_array.h)
 // and not zeroed first: the D-sub connector's 2.4 MB took ~850 page faults through a string,
 // a quarter of reading it.
 FileBytes read_whole_file(const std::string& path) {
