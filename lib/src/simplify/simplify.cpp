@@ -246,7 +246,8 @@ inline std::uint32_t select_if(bool condition, std::uint32_t yes, std::uint32_t 
 }
 
 // Bitwise, not short-circuit: which corner holds v is data the branch predictor cannot learn.
-bool has_vertex(const Face& f, VertexIndex v) { return (f[0] == v) | (f[1] == v) | (f[2] == v); }
+// (On ints: clang's -Wbitwise-instead-of-logical takes `|` between bools for a slip.)
+bool has_vertex(const Face& f, VertexIndex v) { return (int(f[0] == v) | int(f[1] == v) | int(f[2] == v)) != 0; }
 
 // The corner of f that is neither a nor b, for a face that holds both (the engine's faces have
 // three distinct corners): by exclusive or, not by branches on which corner it is.
@@ -991,9 +992,9 @@ class CollapseEngine {
   // which end decided it.)
   bool is_dead(const HeapEntry& e) const { return !(flags_[e.v0] & flags_[e.v1] & kAlive); }
   // A collapse at an end queued the edge again after this entry.
-  bool is_superseded(const HeapEntry& e) const { return (requeued_[e.v0] > e.time) | (requeued_[e.v1] > e.time); }
+  bool is_superseded(const HeapEntry& e) const { return (int(requeued_[e.v0] > e.time) | int(requeued_[e.v1] > e.time)) != 0; }
   // An end changed after the entry was costed.
-  bool is_dated(const HeapEntry& e) const { return (modified_[e.v0] > e.time) | (modified_[e.v1] > e.time); }
+  bool is_dated(const HeapEntry& e) const { return (int(modified_[e.v0] > e.time) | int(modified_[e.v1] > e.time)) != 0; }
   // An entry that stands for nothing: in a lazy queue a dated entry is usually its edge's only
   // one (take_current costs it again; a flagged edge may have a duplicate, popped in turn), so
   // only entries of a removed vertex and entries a collapse at an end superseded go.
@@ -1069,7 +1070,7 @@ class CollapseEngine {
 
   // (prepare() leaves kNoFace in removed[1] on a boundary edge: no branch on num_removed.)
   bool is_removed(const CollapseProfile& p, std::uint32_t f) const {
-    return (f == p.removed[0]) | (f == p.removed[1]);
+    return (int(f == p.removed[0]) | int(f == p.removed[1])) != 0;
   }
 
   // Legality filters: link condition, topology table, normal change.
@@ -1085,7 +1086,7 @@ class CollapseEngine {
       for (VertexIndex w : faces_[f]) {
         // Without branches (whether a corner is a common neighbour is not predictable): a
         // corner that is not one gets its own mark back.
-        const bool common_neighbor = (w != p.v0) & (w != p.v1) & (mark_[w] == v0_neighbor);
+        const bool common_neighbor = (int(w != p.v0) & int(w != p.v1) & int(mark_[w] == v0_neighbor)) != 0;
         mark_[w] = select_if(common_neighbor, counted, mark_[w]);
         common += common_neighbor;
       }
