@@ -105,7 +105,8 @@ class WholeHugePageCache {
     return nullptr;
   }
 
-  // False when full: the caller unmaps.
+  // False when full: the caller unmaps. Called from noexcept deallocate(): held_ never grows
+  // here (every mapping is at least 2 MiB, so kHeldBytes fit in the room the constructor reserved).
   bool keep(void* p, std::size_t bytes) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (held_bytes_ + bytes > kHeldBytes) return false;
@@ -115,6 +116,8 @@ class WholeHugePageCache {
   }
 
  private:
+  WholeHugePageCache() { held_.reserve(kHeldBytes / kHugePageBytes); }
+
   struct Held {
     void* data;
     std::size_t bytes;
