@@ -94,11 +94,13 @@ TEST(LargeArray, AFreedWholeHugePageServesTheNextArrayOfItsLength) {
   EXPECT_EQ(second.data(), first_data);
   for (std::size_t i = 0; i < n; i += 1021) ASSERT_EQ(second[i], 0u) << i;
   EXPECT_EQ(second.back(), 0u);
-  // More arrays than the cache holds, freed at once: each later one still works.
+  // More arrays than the cache holds, freed at once: it keeps exactly kHeldBytes (2 and 4 MiB
+  // mappings fill it to the byte; the rest is unmapped), and each later array still works.
   {
     std::vector<LargeArray<std::uint32_t>> many;
     for (std::size_t k = 0; k < WholeHugePageCache::kHeldBytes / kHugePageBytes + 4; ++k) many.emplace_back(n, 7u);
   }
+  EXPECT_EQ(WholeHugePageCache::instance().held_bytes(), WholeHugePageCache::kHeldBytes);
   std::vector<LargeArray<std::uint32_t>> again;
   for (int k = 0; k < 6; ++k) again.emplace_back(n, 3u);
   for (const auto& a : again) EXPECT_EQ(a[n / 2], 3u);

@@ -115,6 +115,12 @@ class WholeHugePageCache {
     return true;
   }
 
+  // What it holds now (tests check the bound).
+  std::size_t held_bytes() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return held_bytes_;
+  }
+
  private:
   WholeHugePageCache() { held_.reserve(kHeldBytes / kHugePageBytes); }
 
