@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "test_meshes.h"
+#include "triangle_fill.h"
+#include "visimp/core/portable_random.h"
 #include "visimp/render/renderer.h"
 
 namespace visimp {
@@ -72,6 +74,44 @@ TEST(Raster, NearerFaceWinsAndBackFacesAreCulledOnlyWhenAsked) {
   const std::size_t centre = 16 * 32 + 16;
   EXPECT_LT(two_sided.depth[centre], culled.depth[centre]);
   EXPECT_EQ(two_sided.depth[0], 1.0f);
+}
+
+// A wide box's rows start near their first covered centre and stop after their run
+// (triangle_fill.h): the centres drawn must be exactly those the full test of every centre
+// draws. The full test is the narrow boxes' path, taken here strip by strip (each strip
+// narrower than kSkipWidth). Long slivers at every angle, both windings, boxes cut by the
+// image's edge.
+TEST(Raster, WideTrianglesCoverExactlyTheCentresEveryCentreTestCovers) {
+  constexpr int size = 256;
+  SplitMix64 random(7);
+  std::size_t drawn = 0;
+  for (int t = 0; t < 3000; ++t) {
+    ScreenVertex s[3];
+    const double cx = -40 + 336 * random.uniform(), cy = -40 + 336 * random.uniform();
+    const double angle = 6.283185307179586 * random.uniform(), length = 8 + 300 * random.uniform();
+    const double width = t % 3 == 0 ? 0.05 + 2 * random.uniform() : 40 * random.uniform();  // slivers and fat ones
+    const double ux = std::cos(angle), uy = std::sin(angle);
+    const double px[3] = {cx - ux * length / 2, cx + ux * length / 2, cx + uy * width * (random.uniform() - 0.5) * 2};
+    const double py[3] = {cy - uy * length / 2, cy + uy * length / 2, cy - ux * width * (random.uniform() - 0.5) * 2};
+    for (int k = 0; k < 3; ++k)  // screen coordinates are positive (snap()); past 256 the box is clipped
+      s[k] = {static_cast<float>(std::max(0.0, px[k])), static_cast<float>(std::max(0.0, py[k])), 0.5f};
+    const raster::SnappedVertex p0 = raster::snap(s[0]), p1 = raster::snap(s[1]), p2 = raster::snap(s[2]);
+    const int x0 = std::max(raster::first_centre(std::min({p0.x, p1.x, p2.x})), 0);
+    const int x1 = std::min(raster::last_centre(std::max({p0.x, p1.x, p2.x})), size - 1);
+    const int y0 = std::max(raster::first_centre(std::min({p0.y, p1.y, p2.y})), 0);
+    const int y1 = std::min(raster::last_centre(std::max({p0.y, p1.y, p2.y})), size - 1);
+    if (x0 > x1 || y0 > y1) continue;
+    std::vector<std::uint32_t> whole(size * size, 0), strips(size * size, 0);
+    std::vector<float> depth_whole(size * size, 1.0f), depth_strips(size * size, 1.0f);
+    raster::fill_triangle(p0, p1, p2, &s[0], &s[1], &s[2], x0, x1, y0, y1, 1, false, size, whole.data(),
+                          depth_whole.data());
+    for (int x = x0; x <= x1; x += raster::kSkipWidth - 1)
+      raster::fill_triangle(p0, p1, p2, &s[0], &s[1], &s[2], x, std::min(x + raster::kSkipWidth - 2, x1), y0, y1, 1,
+                            false, size, strips.data(), depth_strips.data());
+    ASSERT_EQ(whole, strips) << "triangle " << t;
+    drawn += static_cast<std::size_t>(std::count(whole.begin(), whole.end(), 1u));
+  }
+  EXPECT_GT(drawn, 100000u);  // the triangles drew something
 }
 
 }  // namespace
