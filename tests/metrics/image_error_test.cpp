@@ -74,6 +74,37 @@ TEST(ImageError, SupersamplingMeasuresSubpixelShiftsInProportion) {
   EXPECT_LT(averaged.rms, 0.75 * point.rms);
 }
 
+// compare measures every level and tie-noise run against one input: ImageErrorReference draws
+// the input's views once. Each error must be image_error's to the bit: for results inside the
+// input's sphere (its views reused), for one reaching outside it (the frame widens and the
+// input is drawn again), and for an empty input (each result frames the views).
+TEST(ImageError, AReferenceDrawnOnceGivesImageErrorsBits) {
+  const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
+  std::vector<Mesh> results;
+  for (double ratio : {0.3, 0.05}) {
+    SimplifyOptions o;
+    o.target_ratio = ratio;
+    results.push_back(simplify(bunny, o).mesh);
+  }
+  Mesh moved = results[0];
+  const double diagonal = bounding_box(bunny).diagonal();
+  for (Vec3& p : moved.positions) p = p + Vec3{0.4 * diagonal, 0, 0};
+  results.push_back(moved);
+  const ImageErrorOptions options{96, 2, "", 2};
+  const ImageErrorReference reference(bunny, options);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const ImageError once = reference.error_to(results[i]), each = image_error(bunny, results[i], options);
+    EXPECT_GT(once.rms, 0.0) << i;
+    EXPECT_EQ(once.rms, each.rms) << i;
+    EXPECT_EQ(once.view_rms, each.view_rms) << i;
+  }
+  // The moved result is measured in a wider frame: not as the first result in the input's own.
+  EXPECT_NE(reference.error_to(moved).rms, reference.error_to(results[0]).rms);
+  const Mesh empty;
+  EXPECT_EQ(ImageErrorReference(empty, options).error_to(bunny).rms, image_error(empty, bunny, options).rms);
+  EXPECT_THROW(ImageErrorReference(bunny, {128, 2, "", 9}), UsageError);
+}
+
 TEST(ImageError, RejectsABadSupersamplingFactor) {
   const Mesh bunny = read_mesh(test::bundled_mesh("bunny.ply"));
   EXPECT_THROW(image_error(bunny, bunny, {128, 2, "", 0}), UsageError);

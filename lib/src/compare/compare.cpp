@@ -164,13 +164,15 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
   std::size_t done = 0;
   // The input's index and samples once for all 2 x levels (at 14M faces: 20 s each time).
   const SurfaceDistanceReference reference(input_with_v);
+  // And the input's 20 views once for every level and tie-noise run.
+  const ImageErrorReference image_reference(input, options.image);
   for (std::vector<CompareLevel>* method : {&r.qb, &r.vg}) {
     for (CompareLevel& level : *method) {
       t = std::chrono::steady_clock::now();
       level.distance = reference.distance_to(level.mesh, metro);
       level.seconds_metro = seconds_since(t);
       t = std::chrono::steady_clock::now();
-      level.image = image_error(input, level.mesh, options.image);
+      level.image = image_reference.error_to(level.mesh);
       level.seconds_image = seconds_since(t);
       if (observer) observer->on_compare_progress("errors", double(++done) / double(total));
     }
@@ -186,7 +188,7 @@ CompareResult compare_methods(const Mesh& input, const CameraSet& cameras, Rende
       double seconds = 0;
       const std::vector<CompareLevel> levels = run_method(input, near_tie, r.targets, progress, seconds);
       for (std::size_t i = 0; i < levels.size(); ++i) {
-        const double run_rms = image_error(input, levels[i].mesh, options.image).rms;
+        const double run_rms = image_reference.error_to(levels[i].mesh).rms;
         r.tie_noise_percent[i].push_back(percent_less_than_qb(r.qb[i].image.rms, run_rms));
       }
     }

@@ -35,13 +35,17 @@ class IntensityRecorder final : public FrameConsumer {
     const double scale = 255.0 / double(supersample_ * supersample_);
     std::vector<float>& image = images_[camera];
     image.assign(size * size, 0.0f);
+    // Samples in the order of a walk along each row (the sums' rounding is that order's),
+    // a pixel's supersample_ samples at a time: no division per sample.
     for (std::size_t y = 0; y < samples; ++y) {
       float* row = &image[(y / supersample_) * size];
-      for (std::size_t x = 0; x < samples; ++x) {
-        const std::uint32_t id = frame.ids[y * samples + x];
-        if (id == 0) continue;
-        row[x / supersample_] += static_cast<float>(scale * std::abs(dot(normals_[id - 1], frame.view.direction)));
-      }
+      const std::uint32_t* ids = &frame.ids[y * samples];
+      for (std::size_t pixel = 0; pixel < size; ++pixel)
+        for (std::size_t k = 0; k < supersample_; ++k) {
+          const std::uint32_t id = *ids++;
+          if (id == 0) continue;
+          row[pixel] += static_cast<float>(scale * std::abs(dot(normals_[id - 1], frame.view.direction)));
+        }
     }
   }
   const std::vector<float>& image(std::size_t camera) const { return images_[camera]; }
@@ -77,29 +81,39 @@ View frame_views(const Mesh& a, const Mesh& b) {
 
 }  // namespace
 
-ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+void check_options(const ImageErrorOptions& options) {
   if (options.supersample < 1 || options.supersample > 8)
     throw UsageError("image-error supersampling must be in 1..8, got " + std::to_string(options.supersample));
   const int samples = options.resolution * options.supersample;
   if (options.resolution < 16 || samples > 8192)
     throw UsageError("image-error resolution × supersampling must be in 16..8192, got " +
                      std::to_string(options.resolution) + " × " + std::to_string(options.supersample));
-  const auto renderer = make_raster_renderer({samples, options.threads});
-  const View view = frame_views(a, b);
-  const CameraSet cameras = dodecahedron_cameras();
-  IntensityRecorder image_a(a, cameras.size(), options.supersample), image_b(b, cameras.size(), options.supersample);
-  renderer->render(RenderScene::from_mesh(a, false, view.center, view.radius), cameras, 0, cameras.size(), image_a);
-  renderer->render(RenderScene::from_mesh(b, false, view.center, view.radius), cameras, 0, cameras.size(), image_b);
+}
 
+using ViewImages = std::vector<std::vector<float>>;
+
+// The flat-shaded intensity images of `mesh` from the 20 views framed by `view`.
+ViewImages render_views(const Mesh& mesh, const View& view, const ImageErrorOptions& options) {
+  const auto renderer = make_raster_renderer({options.resolution * options.supersample, options.threads});
+  const CameraSet cameras = dodecahedron_cameras();
+  IntensityRecorder recorder(mesh, cameras.size(), options.supersample);
+  renderer->render(RenderScene::from_mesh(mesh, false, view.center, view.radius), cameras, 0, cameras.size(), recorder);
+  ViewImages images(cameras.size());
+  for (std::size_t n = 0; n < cameras.size(); ++n) images[n] = recorder.image(n);
+  return images;
+}
+
+ImageError compare_views(const ViewImages& images_a, const ViewImages& images_b, const ImageErrorOptions& options) {
   ImageError out;
   out.resolution = options.resolution;
   out.supersample = options.supersample;
-  out.views = cameras.size();
+  out.views = images_a.size();
   const auto size = static_cast<std::size_t>(options.resolution);
   double total = 0;
-  for (std::size_t n = 0; n < cameras.size(); ++n) {
-    const std::vector<float>&ia = image_a.image(n), &ib = image_b.image(n);
+  for (std::size_t n = 0; n < images_a.size(); ++n) {
+    const std::vector<float>&ia = images_a[n], &ib = images_b[n];
     double d = 0;
     for (std::size_t p = 0; p < ia.size(); ++p) {
       const double diff = double(ia[p]) - double(ib[p]);
@@ -119,7 +133,45 @@ ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& op
   }
   out.rms = std::sqrt(total);
   out.rms_per_pixel = std::sqrt(total / (double(out.views) * double(size * size)));
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(options);
+  const View view = frame_views(a, b);
+  ImageError out = compare_views(render_views(a, view, options), render_views(b, view, options), options);
+  out.seconds = seconds_since(start);
+  return out;
+}
+
+struct ImageErrorReference::Views {
+  View view;
+  ViewImages images;
+};
+
+ImageErrorReference::ImageErrorReference(const Mesh& a, const ImageErrorOptions& options) : a_(a), options_(options) {
+  check_options(options);
+  if (bounding_box(a).empty()) return;  // no frame of its own: each B frames the views (image_error())
+  const View own = frame_views(a, a);
+  own_ = std::make_unique<Views>(Views{own, render_views(a, own, options)});
+}
+
+ImageErrorReference::~ImageErrorReference() = default;
+
+ImageError ImageErrorReference::error_to(const Mesh& b) const {
+  const auto start = std::chrono::steady_clock::now();
+  const View view = frame_views(a_, b);
+  const bool own_frame = own_ && view.center == own_->view.center && view.radius == own_->view.radius;
+  ImageError out = compare_views(own_frame ? own_->images : render_views(a_, view, options_),
+                                 render_views(b, view, options_), options_);
+  out.seconds = seconds_since(start);
   return out;
 }
 

@@ -17,6 +17,7 @@
 // QB–VG differences the measure exists to show.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,27 @@ struct ImageError {
 
 /// Throws UsageError for a bad resolution or supersampling factor, IoError if a difference image cannot be written.
 ImageError image_error(const Mesh& a, const Mesh& b, const ImageErrorOptions& options = {});
+
+/// A's 20 views rendered once, for measuring many B against the same A (compare's levels and
+/// tie-noise runs): error_to(b) renders B alone and equals image_error(a, b, options) to the
+/// bit. A B reaching outside A's bounding sphere widens the frame, and A is drawn again for it.
+/// Keeps a reference to `a`, which must outlive it.
+class ImageErrorReference {
+ public:
+  /// Throws UsageError for a bad resolution or supersampling factor.
+  ImageErrorReference(const Mesh& a, const ImageErrorOptions& options = {});
+  ~ImageErrorReference();
+  ImageErrorReference(const ImageErrorReference&) = delete;
+  ImageErrorReference& operator=(const ImageErrorReference&) = delete;
+
+  /// `seconds` counts B's rendering and the comparison (and A's, when the frame widens).
+  ImageError error_to(const Mesh& b) const;
+
+ private:
+  struct Views;  // private to image_error.cpp
+  const Mesh& a_;
+  ImageErrorOptions options_;
+  std::unique_ptr<Views> own_;
+};
 
 }  // namespace visimp
