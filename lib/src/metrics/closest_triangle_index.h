@@ -21,8 +21,9 @@ class ClosestTriangleIndex {
  public:
   static constexpr std::uint32_t kNoHint = ~std::uint32_t{0};
 
-  /// Indexes the non-degenerate faces of `mesh`; empty() when it has none.
-  explicit ClosestTriangleIndex(const Mesh& mesh);
+  /// Indexes the non-degenerate faces of `mesh`; empty() when it has none. Built on up to
+  /// `threads` threads (0: the hardware's); the tree is the same for any count.
+  explicit ClosestTriangleIndex(const Mesh& mesh, unsigned threads = 0);
 
   bool empty() const { return triangles_.empty(); }
 
@@ -51,9 +52,22 @@ class ClosestTriangleIndex {
     std::uint8_t leaf_size[2];
   };
 
-  // Builds the subtree of order[begin, end); returns its reference and box.
+  // Where a subtree goes: its first node and first triangle.
+  struct Slots {
+    std::uint32_t node, triangle;
+  };
+  // A built subtree's box (absolute, double, and rounded out relative to centre_) and its leaf size (0: a node).
+  struct Built {
+    Vec3 lo, hi;
+    Box box;
+    std::uint8_t leaf_size = 0;
+  };
+  // Subtrees this large build their halves on two threads.
+  static constexpr std::uint32_t kParallelTriangles = std::uint32_t(1) << 16;
+  static std::uint32_t subtree_nodes(std::uint32_t n);
+  // Builds the subtree of order[begin, end) at `at`; returns its reference.
   std::uint32_t build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid, std::uint32_t begin,
-                      std::uint32_t end, const Mesh& mesh, Box& box, std::uint8_t& leaf_size);
+                      std::uint32_t end, const Mesh& mesh, const Slots& at, unsigned workers, Built& out);
 
   Vec3 centre_;                      // boxes are relative to it
   std::vector<Triangle> triangles_;  // in leaf order, absolute coordinates

@@ -157,9 +157,9 @@ struct SampleDistances {
   double edge_max = 0;
 };
 
-std::unique_ptr<const ClosestTriangleIndex> build_index(const Mesh& to, double& seconds_index) {
+std::unique_ptr<const ClosestTriangleIndex> build_index(const Mesh& to, int threads, double& seconds_index) {
   const auto t = std::chrono::steady_clock::now();
-  auto index = std::make_unique<const ClosestTriangleIndex>(to);
+  auto index = std::make_unique<const ClosestTriangleIndex>(to, threads > 0 ? unsigned(threads) : 0u);
   if (index->empty()) throw InvalidMeshError("surface distance: a mesh has no non-degenerate face");
   seconds_index += seconds_since(t);
   return index;
@@ -351,14 +351,14 @@ SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDist
   r.seconds_sampling = seconds_since(t);
   SampleDistances from_a;
   {  // one index at a time when nothing is kept: the larger mesh's is the largest allocation
-    const std::unique_ptr<const ClosestTriangleIndex> index_of_b = build_index(b, r.seconds_index);
+    const std::unique_ptr<const ClosestTriangleIndex> index_of_b = build_index(b, options.threads, r.seconds_index);
     from_a = measure(a, *on_a, *index_of_b, options.threads, r.seconds_queries);
   }
   if (cache != nullptr) {
-    if (!cache->index) cache->index = build_index(a, r.seconds_index);
+    if (!cache->index) cache->index = build_index(a, options.threads, r.seconds_index);
     index_of_a = cache->index.get();
   } else {
-    own_index = build_index(a, r.seconds_index);
+    own_index = build_index(a, options.threads, r.seconds_index);
     index_of_a = own_index.get();
   }
   const SampleDistances from_b = measure(b, on_b, *index_of_a, options.threads, r.seconds_queries);
