@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <system_error>
 #include <thread>
 
 #include "visimp/core/bounding_box.h"
@@ -146,8 +147,14 @@ std::uint32_t ClosestTriangleIndex::build(std::vector<std::uint32_t>& order, con
   auto build_left = [&] { node.child[0] = build(order, centroid, begin, mid, mesh, left_at, workers / 2, left); };
   // The halves touch disjoint ranges of `order`, nodes_ and triangles_: the tree is the same
   // for any number of workers.
+  std::thread other;
   if (workers > 1 && end - begin >= kParallelTriangles) {
-    std::thread other(build_left);
+    try {
+      other = std::thread(build_left);
+    } catch (const std::system_error&) {  // no thread to be had: the left half on this one
+    }
+  }
+  if (other.joinable()) {
     node.child[1] = build(order, centroid, mid, end, mesh, right_at, workers - workers / 2, right);
     other.join();
   } else {
