@@ -75,6 +75,17 @@ TEST(ClosestTriangleIndex, MatchesBruteForceWhenBuiltOnSeveralThreads) {
   ASSERT_GT(sphere.num_faces(), 65536u);
   expect_matches_brute_force(sphere, 0.2, 4, 1);
   expect_matches_brute_force(sphere, 0.2, 5, 4);
+  // The same tree: the nearest triangle's number (its place in leaf order) and the distance
+  // agree for every query, ties included (both searches take the same path).
+  const ClosestTriangleIndex one(sphere, 1), four(sphere, 4);
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-1.3, 1.3);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p{u(rng), u(rng), u(rng)};
+    std::uint32_t hint_one = ClosestTriangleIndex::kNoHint, hint_four = ClosestTriangleIndex::kNoHint;
+    ASSERT_EQ(one.squared_distance(p, hint_one), four.squared_distance(p, hint_four)) << i;
+    ASSERT_EQ(hint_one, hint_four) << i;
+  }
 }
 
 TEST(ClosestTriangleIndex, SkipsDegenerateFaces) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <system_error>
 #include <thread>
 
 #include "visimp/core/bounding_box.h"
@@ -151,7 +150,7 @@ std::uint32_t ClosestTriangleIndex::build(std::vector<std::uint32_t>& order, con
   if (workers > 1 && end - begin >= kParallelTriangles) {
     try {
       other = std::thread(build_left);
-    } catch (const std::system_error&) {  // no thread to be had: the left half on this one
+    } catch (...) {  // no thread to be had (system_error, bad_alloc): the left half on this one
     }
   }
   if (other.joinable()) {

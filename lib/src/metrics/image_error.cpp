@@ -48,7 +48,7 @@ class IntensityRecorder final : public FrameConsumer {
         }
     }
   }
-  const std::vector<float>& image(std::size_t camera) const { return images_[camera]; }
+  std::vector<std::vector<float>> take_images() { return std::move(images_); }
 
  private:
   std::vector<Vec3> normals_;
@@ -100,9 +100,7 @@ ViewImages render_views(const Mesh& mesh, const View& view, const ImageErrorOpti
   const CameraSet cameras = dodecahedron_cameras();
   IntensityRecorder recorder(mesh, cameras.size(), options.supersample);
   renderer->render(RenderScene::from_mesh(mesh, false, view.center, view.radius), cameras, 0, cameras.size(), recorder);
-  ViewImages images(cameras.size());
-  for (std::size_t n = 0; n < cameras.size(); ++n) images[n] = recorder.image(n);
-  return images;
+  return recorder.take_images();
 }
 
 ImageError compare_views(const ViewImages& images_a, const ViewImages& images_b, const ImageErrorOptions& options) {
@@ -169,8 +167,9 @@ ImageError ImageErrorReference::error_to(const Mesh& b) const {
   const auto start = std::chrono::steady_clock::now();
   const View view = frame_views(a_, b);
   const bool own_frame = own_ && view.center == own_->view.center && view.radius == own_->view.radius;
-  ImageError out = compare_views(own_frame ? own_->images : render_views(a_, view, options_),
-                                 render_views(b, view, options_), options_);
+  ViewImages widened;  // A in a frame widened for B
+  if (!own_frame) widened = render_views(a_, view, options_);
+  ImageError out = compare_views(own_frame ? own_->images : widened, render_views(b, view, options_), options_);
   out.seconds = seconds_since(start);
   return out;
 }

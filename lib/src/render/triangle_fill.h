@@ -45,7 +45,8 @@ inline std::int64_t fill_rule_bias(const FixedPoint& a, const FixedPoint& b) {
   return (left || top) ? 0 : 1;
 }
 
-// Rows of a box at least this wide start near their first covered pixel (fill_triangle).
+// Rows of a box spanning more than this many centres start near their first covered one
+// (fill_triangle).
 constexpr int kSkipWidth = 8;
 
 // Where a row's covered run can start: an edge function w + k·step with w < 0 and step > 0
