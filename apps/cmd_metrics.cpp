@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -176,16 +177,19 @@ int run_imgerr(const Args& args) {
   StreamOptions stream;
   std::size_t resolution = static_cast<std::size_t>(options.resolution), threads = 0,
               supersample = static_cast<std::size_t>(options.supersample);
-  ArgParser parser("visimp imgerr A B [--resolution R] [--supersample S] [--diff-prefix P] [--json]",
+  ArgParser parser("visimp imgerr A B [B ...] [--resolution R] [--supersample S] [--diff-prefix P] [--json]",
                    "Image RMS error (Zhang & Turk 2002, eq. 5.11) between A and B rendered flat-shaded from\n"
-                   "the 20 vertices of a dodecahedron around their common bounding sphere.",
-                   2);
+                   "the 20 vertices of a dodecahedron around A's bounding sphere (A's and B's when B reaches\n"
+                   "outside it). With several B,\n"
+                   "A's views are drawn once and each B is measured against them (the same numbers as one\n"
+                   "call per B); --json then prints an array of the one-B summaries.",
+                   2, std::numeric_limits<std::size_t>::max());
   parser.add(option_spec("--resolution", "R", resolution, "view width and height in pixels, 16..8192"));
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
   parser.add(option_spec("--supersample", "S", supersample,
                          "samples per pixel side, averaged (box filter), 1..8; 1: point sampling"));
   parser.add(option_spec("--diff-prefix", "P", options.difference_prefix,
-                         "write P0.png..P19.png: |I_A - I_B| in the red channel"));
+                         "write P0.png..P19.png: |I_A - I_B| in the red channel (several B: P<k>_0.png.., k = 1, 2, ..)"));
   parser.add(describe_options(stream, false));
   if (!parser.parse(args)) return 0;
   check_pixels(resolution, "--resolution");
@@ -193,24 +197,47 @@ int run_imgerr(const Args& args) {
   if (supersample < 1 || supersample > 8) throw UsageError("--supersample must be in 1..8");
   options.supersample = static_cast<int>(supersample);
   options.threads = static_cast<unsigned>(std::min<std::size_t>(threads, 1024));
-  const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
-  const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);
-  const ImageError e = image_error(a, b, options);
-  if (stream.json) {
-    JsonWriter json(std::cout);
-    json.begin_object().field("command", "imgerr").field("a", path_a).field("b", path_b);
-    json.field("resolution", static_cast<std::int64_t>(e.resolution))
-        .field("supersample", static_cast<std::int64_t>(e.supersample))
-        .field("views", e.views);
-    json.field("rms", e.rms).field("rms_per_pixel", e.rms_per_pixel);
-    json.key("view_rms_per_pixel").begin_array();
-    for (double v : e.view_rms) json.value(v);
-    json.end_array().field("seconds", e.seconds).end_object();
-  } else {
-    std::cout << "image RMS error (eq. 5.11): " << e.rms << "\nper-pixel RMS: " << e.rms_per_pixel << " of 255 ("
-              << e.views << " views at " << e.resolution << "x" << e.resolution << ", " << e.supersample << "x"
-              << e.supersample << " samples per pixel, " << e.seconds << " s)\n";
+  const std::vector<std::string>& paths = parser.positionals();
+  const std::string& path_a = paths[0];
+  const std::size_t count = paths.size() - 1;
+  const Mesh a = read_input(path_a, stream);
+  const std::string prefix = options.difference_prefix;
+  options.difference_prefix.clear();
+  std::optional<ImageErrorReference> reference;  // A's views once (not needed when each pair writes its images)
+  if (prefix.empty()) reference.emplace(a, options);
+  // Printed once every B has been measured: a bad B leaves no partial report on stdout.
+  std::ostringstream report;
+  JsonWriter json(report);
+  if (stream.json && count > 1) json.begin_array();
+  for (std::size_t k = 1; k <= count; ++k) {
+    const std::string& path_b = paths[k];
+    const Mesh b = read_input(path_b, stream);
+    ImageError e;
+    if (prefix.empty()) {
+      e = reference->error_to(b);
+    } else {  // the difference images are written by a measurement of its own
+      ImageErrorOptions with_images = options;
+      with_images.difference_prefix = count > 1 ? prefix + std::to_string(k) + "_" : prefix;
+      e = image_error(a, b, with_images);
+    }
+    if (stream.json) {
+      json.begin_object().field("command", "imgerr").field("a", path_a).field("b", path_b);
+      json.field("resolution", static_cast<std::int64_t>(e.resolution))
+          .field("supersample", static_cast<std::int64_t>(e.supersample))
+          .field("views", e.views);
+      json.field("rms", e.rms).field("rms_per_pixel", e.rms_per_pixel);
+      json.key("view_rms_per_pixel").begin_array();
+      for (double v : e.view_rms) json.value(v);
+      json.end_array().field("seconds", e.seconds).end_object();
+    } else {
+      if (count > 1) report << "B: " << path_b << "\n";
+      report << "image RMS error (eq. 5.11): " << e.rms << "\nper-pixel RMS: " << e.rms_per_pixel << " of 255 ("
+             << e.views << " views at " << e.resolution << "x" << e.resolution << ", " << e.supersample << "x"
+             << e.supersample << " samples per pixel, " << e.seconds << " s)\n";
+    }
   }
+  if (stream.json && count > 1) json.end_array();
+  std::cout << report.str();
   return 0;
 }
 

@@ -420,6 +420,32 @@ TEST_F(App, MetroAndImageErrorReportAPair) {
   EXPECT_EQ(run("metro " + bunny + " " + dir + "/small.ply --visible", dir).code, 1);
 }
 
+// Several B against one A: A's views drawn once, each B's numbers those of a call of its own,
+// a JSON array of the one-B summaries; a bad B fails the call with nothing on stdout.
+TEST_F(App, ImageErrorMeasuresSeveralResultsAgainstOneInput) {
+  ASSERT_EQ(run("simplify " + bunny + " " + dir + "/a.ply --ratio 0.3", dir).code, 0);
+  ASSERT_EQ(run("simplify " + bunny + " " + dir + "/b.ply --ratio 0.05", dir).code, 0);
+  auto rms_field = [](const std::string& json, std::size_t from = 0) {
+    const std::size_t at = json.find("\"rms\": ", from);
+    return at == std::string::npos ? std::string() : json.substr(at, json.find(',', at) - at);
+  };
+  const AppRun one_a = run("imgerr " + bunny + " " + dir + "/a.ply --json --resolution 64", dir);
+  const AppRun one_b = run("imgerr " + bunny + " " + dir + "/b.ply --json --resolution 64", dir);
+  const AppRun both = run("imgerr " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --json --resolution 64", dir);
+  ASSERT_EQ(both.code, 0) << both.err;
+  ASSERT_FALSE(rms_field(one_a.out).empty()) << one_a.out;
+  EXPECT_EQ(both.out.find('['), both.out.find_first_not_of(" \n")) << both.out;  // an array
+  const std::size_t second = both.out.find("\"command\"", both.out.find("\"command\"") + 1);
+  ASSERT_NE(second, std::string::npos) << both.out;
+  EXPECT_EQ(rms_field(both.out), rms_field(one_a.out));
+  EXPECT_EQ(rms_field(both.out, second), rms_field(one_b.out));
+  EXPECT_NE(rms_field(one_a.out), rms_field(one_b.out));
+  const AppRun bad = run("imgerr " + bunny + " " + dir + "/a.ply " + dir + "/missing.ply --json", dir);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(bad.out.empty()) << bad.out;
+  EXPECT_NE(bad.err.find("missing.ply"), std::string::npos) << bad.err;
+}
+
 TEST_F(App, SimplifyVgWritesEveryLevelAndDropsHiddenFaces) {
   const std::string esp = test::bundled_mesh("kicad_esp_wroom02.ply");
   const AppRun r = run("simplify " + esp + " " + dir +
