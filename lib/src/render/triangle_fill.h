@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 
 #include "visimp/render/frame.h"
@@ -125,13 +126,24 @@ inline void fill_triangle(SnappedVertex p0, SnappedVertex p1, SnappedVertex p2, 
       ids[p] = id;
     }
   };
-  if (x1 - x0 < kSkipWidth) {
-    // A narrow box (a scan's or a refined mesh's small triangles): every centre tested.
+  // Narrow boxes (a scan's or a refined mesh's small triangles) test every centre of a row;
+  // compiled apart, so their loop carries none of the wide rows' work.
+  auto fill_rows = [&](auto wide_box) {
+    constexpr bool kWide = decltype(wide_box)::value;
+    const RowStart start(kWide ? step_x0 : 0, kWide ? step_x1 : 0, kWide ? step_x2 : 0);
     for (int y = y0; y <= y1; ++y) {
-      std::int64_t w0 = row0, w1 = row1, w2 = row2;
+      const int first = kWide ? x0 + start.first_pixel(row0, row1, row2, x1 - x0) : x0;
+      const std::int64_t k = first - x0;
+      std::int64_t w0 = row0 + k * step_x0, w1 = row1 + k * step_x1, w2 = row2 + k * step_x2;
       const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(size);
-      for (int x = x0; x <= x1; ++x) {
-        if ((w0 | w1 | w2) >= 0) plot(x, y, row);
+      bool entered = false;
+      for (int x = first; x <= x1; ++x) {
+        if ((w0 | w1 | w2) >= 0) {
+          entered = true;
+          plot(x, y, row);
+        } else if (kWide && entered) {
+          break;  // past the run
+        }
         w0 += step_x0;
         w1 += step_x1;
         w2 += step_x2;
@@ -140,30 +152,11 @@ inline void fill_triangle(SnappedVertex p0, SnappedVertex p1, SnappedVertex p2, 
       row1 += step_y1;
       row2 += step_y2;
     }
-    return;
-  }
-  const RowStart start(step_x0, step_x1, step_x2);
-  for (int y = y0; y <= y1; ++y) {
-    const int first = x0 + start.first_pixel(row0, row1, row2, x1 - x0);
-    const std::int64_t k = first - x0;
-    std::int64_t w0 = row0 + k * step_x0, w1 = row1 + k * step_x1, w2 = row2 + k * step_x2;
-    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(size);
-    bool entered = false;
-    for (int x = first; x <= x1; ++x) {
-      if ((w0 | w1 | w2) >= 0) {
-        entered = true;
-        plot(x, y, row);
-      } else if (entered) {
-        break;  // past the run
-      }
-      w0 += step_x0;
-      w1 += step_x1;
-      w2 += step_x2;
-    }
-    row0 += step_y0;
-    row1 += step_y1;
-    row2 += step_y2;
-  }
+  };
+  if (x1 - x0 < kSkipWidth)
+    fill_rows(std::false_type{});
+  else
+    fill_rows(std::true_type{});
 }
 
 }  // namespace visimp::raster
