@@ -38,6 +38,7 @@
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 #include <meshoptimizer.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cfloat>
