@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "box_filter.h"
 #include "test_meshes.h"
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
@@ -101,6 +106,30 @@ TEST(ImageError, AReferenceDrawnOnceGivesImageErrorsBits) {
   const Mesh empty;
   EXPECT_EQ(ImageErrorReference(empty, options).error_to(bunny).rms, image_error(empty, bunny, options).rms);
   EXPECT_THROW(ImageErrorReference(bunny, {128, 2, "", 9}), UsageError);
+}
+
+// Each pixel of a supersampled view sums exactly the s × s samples it covers, background
+// samples (id 0) adding nothing. Sample values are multiples of 1/4, so every sum is exact in
+// any order and the filter must match a block-by-block sum to the bit; a block shifted by one
+// sample, rows mixed up or a background sample counted all change some pixel.
+TEST(ImageError, BoxFilterSumsEachPixelsOwnSamples) {
+  std::mt19937 random(7);
+  auto value = [](std::uint32_t id) { return 0.25 * double(id) + 0.5; };  // nonzero for id 0 too
+  for (std::size_t supersample : {1, 2, 3, 4}) {
+    const std::size_t size = 7, samples = size * supersample;
+    std::vector<std::uint32_t> ids(samples * samples);
+    for (std::uint32_t& id : ids) id = random() % 3 == 0 ? 0u : 1u + static_cast<std::uint32_t>(random() % 50);  // a third background
+    std::vector<float> image(size * size, 0.0f);
+    detail::add_box_filtered(ids.data(), samples, supersample, value, image.data());
+    for (std::size_t py = 0; py < size; ++py)
+      for (std::size_t px = 0; px < size; ++px) {
+        double expected = 0;
+        for (std::size_t y = py * supersample; y < (py + 1) * supersample; ++y)
+          for (std::size_t x = px * supersample; x < (px + 1) * supersample; ++x)
+            if (const std::uint32_t id = ids[y * samples + x]; id != 0) expected += value(id);
+        ASSERT_EQ(double(image[py * size + px]), expected) << "s = " << supersample << ", pixel " << px << ", " << py;
+      }
+  }
 }
 
 TEST(ImageError, RejectsABadSupersamplingFactor) {

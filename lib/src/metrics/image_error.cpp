@@ -11,6 +11,7 @@
 #include "visimp/core/bounding_box.h"
 #include "visimp/core/errors.h"
 #include "visimp/render/image.h"
+#include "box_filter.h"
 
 namespace visimp {
 namespace {
@@ -35,18 +36,10 @@ class IntensityRecorder final : public FrameConsumer {
     const double scale = 255.0 / double(supersample_ * supersample_);
     std::vector<float>& image = images_[camera];
     image.assign(size * size, 0.0f);
-    // Samples in the order of a walk along each row (the sums' rounding is that order's),
-    // a pixel's supersample_ samples at a time: no division per sample.
-    for (std::size_t y = 0; y < samples; ++y) {
-      float* row = &image[(y / supersample_) * size];
-      const std::uint32_t* ids = &frame.ids[y * samples];
-      for (std::size_t pixel = 0; pixel < size; ++pixel)
-        for (std::size_t k = 0; k < supersample_; ++k) {
-          const std::uint32_t id = *ids++;
-          if (id == 0) continue;
-          row[pixel] += static_cast<float>(scale * std::abs(dot(normals_[id - 1], frame.view.direction)));
-        }
-    }
+    const Vec3 direction = frame.view.direction;
+    detail::add_box_filtered(
+        frame.ids.data(), samples, supersample_,
+        [&](std::uint32_t id) { return scale * std::abs(dot(normals_[id - 1], direction)); }, image.data());
   }
   std::vector<std::vector<float>> take_images() { return std::move(images_); }
 
