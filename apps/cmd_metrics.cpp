@@ -1,6 +1,7 @@
 // visimp metro / imgerr: error reports between two meshes (docs/metrics.md).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -52,6 +53,82 @@ void print_directed(std::ostream& out, const char* title, const DirectedDistance
   }
 }
 
+// FILE for one B; FILE_<k> (before the extension) for the k-th of several.
+std::string numbered_path(const std::string& path, std::size_t k, std::size_t count) {
+  if (count == 1) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "_" + std::to_string(k) + p.extension().string())).string();
+}
+
+// Outputs never replace an input: --error-ply B (or a numbered name that is some B) is refused
+// before anything is written.
+void refuse_overwriting_inputs(const std::string& output, const std::vector<std::string>& inputs, bool in_place) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (output == "-" || in_place || !fs::exists(output, ec)) return;
+  for (const std::string& input : inputs)
+    if (input != "-" && fs::equivalent(output, input, ec))
+      throw UsageError(output + ": output would overwrite the input " + input);
+}
+
+void print_metro_json(JsonWriter& json, const std::string& path_a, const std::string& path_b, const SurfaceDistance& d,
+                      const std::optional<HausdorffBounds>& bounds, bool visible) {
+  json.begin_object().field("command", "metro").field("a", path_a).field("b", path_b);
+  json.field("diagonal", d.diagonal).field("diagonal_of", "A");
+  write_directed(json, "a_to_b", d.a_to_b, d.diagonal);
+  write_directed(json, "b_to_a", d.b_to_a, d.diagonal);
+  json.field("hausdorff", d.hausdorff).field("hausdorff_relative", d.hausdorff / d.diagonal);
+  json.field("rms", d.rms).field("rms_relative", d.rms / d.diagonal);
+  if (bounds) {
+    json.key("hausdorff_bounds")
+        .begin_object()
+        .field("lower", bounds->lower)
+        .field("upper", bounds->upper)
+        .field("lower_relative", bounds->lower / d.diagonal)
+        .field("upper_relative", bounds->upper / d.diagonal)
+        .field("seconds", bounds->seconds)
+        .end_object();
+  }
+  if (visible) {
+    json.key("visible_a_to_b")
+        .begin_object()
+        .field("max", d.visible.max)
+        .field("mean", d.visible.mean)
+        .field("rms", d.visible.rms)
+        .field("visible_area", d.visible.visible_area)
+        .end_object();
+  }
+  json.key("seconds")
+      .begin_object()
+      .field("sampling", d.seconds_sampling)
+      .field("index", d.seconds_index)
+      .field("queries", d.seconds_queries)
+      .field("total", d.seconds)
+      .end_object();
+  json.end_object();
+}
+
+void print_metro_text(std::ostream& out, const std::string& path_a, const Mesh& a, const std::string& path_b,
+                      const Mesh& b, const SurfaceDistance& d, const std::optional<HausdorffBounds>& bounds,
+                      bool visible) {
+  out << "A: " << path_a << " (" << a.num_faces() << " faces)\nB: " << path_b << " (" << b.num_faces()
+      << " faces)\nbounding-box diagonal of A: " << d.diagonal << "\n\n";
+  print_directed(out, "A -> B", d.a_to_b, d.diagonal);
+  print_directed(out, "B -> A", d.b_to_a, d.diagonal);
+  out << "\nHausdorff distance: " << d.hausdorff << " (" << d.hausdorff / d.diagonal
+      << " of the diagonal)\nsymmetric RMS:      " << d.rms << " (" << d.rms / d.diagonal << ")\n";
+  if (bounds) {
+    out << "certified Hausdorff: between " << bounds->lower << " and " << bounds->upper << " (" << bounds->seconds
+        << " s)\n";
+  }
+  if (visible) {
+    out << "visible A -> B:     max " << d.visible.max << ", mean " << d.visible.mean << ", RMS " << d.visible.rms
+        << " (weights area x V, visible area " << d.visible.visible_area << ")\n";
+  }
+  out << "seconds: sampling " << d.seconds_sampling << ", index " << d.seconds_index << ", queries "
+      << d.seconds_queries << ", total " << d.seconds << "\n";
+}
+
 }  // namespace
 
 int run_metro(const Args& args) {
@@ -60,12 +137,15 @@ int run_metro(const Args& args) {
   std::string error_ply, error_png, sampling = "random";
   double bound = 0;
   std::size_t threads = 0;
-  ArgParser parser("visimp metro A B [--samples N] [--visible] [--error-ply F] [--json]",
+  ArgParser parser("visimp metro A B [B ...] [--samples N] [--visible] [--error-ply F] [--json]",
                    "Sampled distances between surfaces A and B in both directions (Metro, Cignoni et al. 1998):\n"
                    "max (Hausdorff), area-weighted mean and RMS, histogram; relative numbers are divided\n"
                    "by the bounding-box diagonal of A. With --visible, A's face quality is its visibility V\n"
-                   "and A's samples are also weighted by it.",
-                   2);
+                   "and A's samples are also weighted by it. With several B, A's samples and search tree are\n"
+                   "made once and each B is measured against them (the same numbers as one call per B);\n"
+                   "--json then prints an array of the one-B summaries, and --error-ply/--error-png F write\n"
+                   "F_1.ext, F_2.ext, .. (k-th B). Every B is read before anything is measured.",
+                   2, std::numeric_limits<std::size_t>::max());
   parser.add(
       option_spec("--samples", "N", options.samples, "face samples per direction (0: 10 x the larger face count)"));
   parser.add(option_spec("--edge-samples", "N", options.edge_samples,
@@ -94,81 +174,55 @@ int run_metro(const Args& args) {
     throw UsageError("--sampling " + sampling + ": expected random or stratified");
   if (!(options.density >= 0) || !std::isfinite(options.density))
     throw UsageError("--density must be a finite number >= 0");
-  const std::string &path_a = parser.positionals()[0], &path_b = parser.positionals()[1];
-  const Mesh a = read_input(path_a, stream), b = read_input(path_b, stream);
+  if (!(bound >= 0) || !std::isfinite(bound)) throw UsageError("--bound must be a finite number >= 0");
+  const std::vector<std::string>& paths = parser.positionals();
+  const std::string& path_a = paths[0];
+  const std::size_t count = paths.size() - 1;
+  if (count > 1 && (error_ply == "-" || error_png == "-"))
+    throw UsageError("--error-ply/--error-png - takes one B (several B write FILE_1, FILE_2, ..)");
+  for (std::size_t k = 1; k <= count; ++k) {
+    if (!error_ply.empty()) refuse_overwriting_inputs(numbered_path(error_ply, k, count), paths, stream.in_place);
+    if (!error_png.empty()) refuse_overwriting_inputs(numbered_path(error_png, k, count), paths, stream.in_place);
+  }
+  const Mesh a = read_input(path_a, stream);
   if (visible) {
     if (a.face_quality.size() != a.num_faces())
       throw InvalidMeshError(path_a + ": --visible needs V as face quality (a 'visimp visibility' output)");
     options.face_visibility = a.face_quality;
   }
-  const SurfaceDistance d = surface_distance(a, b, options);
-  if (!(bound >= 0) || !std::isfinite(bound)) throw UsageError("--bound must be a finite number >= 0");
-  std::optional<HausdorffBounds> bounds;
-  if (bound > 0) bounds = bounded_hausdorff(a, b, bound * d.diagonal, d.hausdorff);
-  if (!error_ply.empty()) {
-    Mesh map = a;
-    map.vertex_quality = d.vertex_error;
-    write_output(map, error_ply, path_a, stream);
+  // Every B read first: a B that cannot be read fails the call before anything is written.
+  std::vector<Mesh> results;
+  for (std::size_t k = 1; k <= count; ++k) results.push_back(read_input(paths[k], stream));
+  const SurfaceDistanceReference reference(a);
+  // Printed once every B has been measured: a B that fails leaves no partial report on stdout.
+  std::ostringstream report;
+  JsonWriter json(report);
+  if (stream.json && count > 1) json.begin_array();
+  for (std::size_t k = 1; k <= count; ++k) {
+    const Mesh& b = results[k - 1];
+    const SurfaceDistance d = reference.distance_to(b, options);
+    std::optional<HausdorffBounds> bounds;
+    if (bound > 0) bounds = bounded_hausdorff(a, b, bound * d.diagonal, d.hausdorff);
+    if (!error_ply.empty()) {
+      Mesh map = a;
+      map.vertex_quality = d.vertex_error;
+      write_output(map, numbered_path(error_ply, k, count), path_a, stream);
+    }
+    if (!error_png.empty()) {
+      std::vector<Rgb> colors(a.num_faces());
+      for (std::size_t f = 0; f < colors.size(); ++f)
+        colors[f] = heat_color(d.a_to_b.max > 0 ? d.face_error[f] / d.a_to_b.max : 0.0);
+      write_png(numbered_path(error_png, k, count), render_face_colors(a, colors, kPictureSize));
+    }
+    if (stream.json) {
+      print_metro_json(json, path_a, paths[k], d, bounds, visible);
+    } else {
+      if (k > 1) report << "\n";
+      print_metro_text(report, path_a, a, paths[k], b, d, bounds, visible);
+    }
   }
-  if (!error_png.empty()) {
-    std::vector<Rgb> colors(a.num_faces());
-    for (std::size_t f = 0; f < colors.size(); ++f)
-      colors[f] = heat_color(d.a_to_b.max > 0 ? d.face_error[f] / d.a_to_b.max : 0.0);
-    write_png(error_png, render_face_colors(a, colors, kPictureSize));
-  }
-  if (stream.json) {
-    JsonWriter json(std::cout);
-    json.begin_object().field("command", "metro").field("a", path_a).field("b", path_b);
-    json.field("diagonal", d.diagonal).field("diagonal_of", "A");
-    write_directed(json, "a_to_b", d.a_to_b, d.diagonal);
-    write_directed(json, "b_to_a", d.b_to_a, d.diagonal);
-    json.field("hausdorff", d.hausdorff).field("hausdorff_relative", d.hausdorff / d.diagonal);
-    json.field("rms", d.rms).field("rms_relative", d.rms / d.diagonal);
-    if (bounds) {
-      json.key("hausdorff_bounds")
-          .begin_object()
-          .field("lower", bounds->lower)
-          .field("upper", bounds->upper)
-          .field("lower_relative", bounds->lower / d.diagonal)
-          .field("upper_relative", bounds->upper / d.diagonal)
-          .field("seconds", bounds->seconds)
-          .end_object();
-    }
-    if (visible) {
-      json.key("visible_a_to_b")
-          .begin_object()
-          .field("max", d.visible.max)
-          .field("mean", d.visible.mean)
-          .field("rms", d.visible.rms)
-          .field("visible_area", d.visible.visible_area)
-          .end_object();
-    }
-    json.key("seconds")
-        .begin_object()
-        .field("sampling", d.seconds_sampling)
-        .field("index", d.seconds_index)
-        .field("queries", d.seconds_queries)
-        .field("total", d.seconds)
-        .end_object();
-    json.end_object();
-  } else {
-    std::cout << "A: " << path_a << " (" << a.num_faces() << " faces)\nB: " << path_b << " (" << b.num_faces()
-              << " faces)\nbounding-box diagonal of A: " << d.diagonal << "\n\n";
-    print_directed(std::cout, "A -> B", d.a_to_b, d.diagonal);
-    print_directed(std::cout, "B -> A", d.b_to_a, d.diagonal);
-    std::cout << "\nHausdorff distance: " << d.hausdorff << " (" << d.hausdorff / d.diagonal
-              << " of the diagonal)\nsymmetric RMS:      " << d.rms << " (" << d.rms / d.diagonal << ")\n";
-    if (bounds) {
-      std::cout << "certified Hausdorff: between " << bounds->lower << " and " << bounds->upper << " ("
-                << bounds->seconds << " s)\n";
-    }
-    if (visible) {
-      std::cout << "visible A -> B:     max " << d.visible.max << ", mean " << d.visible.mean << ", RMS "
-                << d.visible.rms << " (weights area x V, visible area " << d.visible.visible_area << ")\n";
-    }
-    std::cout << "seconds: sampling " << d.seconds_sampling << ", index " << d.seconds_index << ", queries "
-              << d.seconds_queries << ", total " << d.seconds << "\n";
-  }
+  if (stream.json && count > 1) json.end_array();
+  std::cout << report.str();
   return 0;
 }
 
@@ -182,7 +236,8 @@ int run_imgerr(const Args& args) {
                    "the 20 vertices of a dodecahedron around A's bounding sphere (A's and B's when B reaches\n"
                    "outside it). With several B,\n"
                    "A's views are drawn once and each B is measured against them (the same numbers as one\n"
-                   "call per B); --json then prints an array of the one-B summaries.",
+                   "call per B); --json then prints an array of the one-B summaries. Every B is read before\n"
+                   "anything is measured.",
                    2, std::numeric_limits<std::size_t>::max());
   parser.add(option_spec("--resolution", "R", resolution, "view width and height in pixels, 16..8192"));
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
@@ -201,25 +256,22 @@ int run_imgerr(const Args& args) {
   const std::string& path_a = paths[0];
   const std::size_t count = paths.size() - 1;
   const Mesh a = read_input(path_a, stream);
-  const std::string prefix = options.difference_prefix;
-  options.difference_prefix.clear();
-  std::optional<ImageErrorReference> reference;  // A's views once (not needed when each pair writes its images)
-  if (prefix.empty()) reference.emplace(a, options);
-  // Printed once every B has been measured: a bad B leaves no partial report on stdout.
+  // Every B read first: a B that cannot be read fails the call before anything is written.
+  std::vector<Mesh> results;
+  for (std::size_t k = 1; k <= count; ++k) results.push_back(read_input(paths[k], stream));
+  // With several B, A's views are drawn once; one B is one image_error() call, whose seconds
+  // count A's drawing too.
+  std::optional<ImageErrorReference> reference;
+  if (count > 1) reference.emplace(a, options);
+  // Printed once every B has been measured: a B that fails leaves no partial report on stdout.
   std::ostringstream report;
   JsonWriter json(report);
   if (stream.json && count > 1) json.begin_array();
   for (std::size_t k = 1; k <= count; ++k) {
     const std::string& path_b = paths[k];
-    const Mesh b = read_input(path_b, stream);
-    ImageError e;
-    if (prefix.empty()) {
-      e = reference->error_to(b);
-    } else {  // the difference images are written by a measurement of its own
-      ImageErrorOptions with_images = options;
-      with_images.difference_prefix = count > 1 ? prefix + std::to_string(k) + "_" : prefix;
-      e = image_error(a, b, with_images);
-    }
+    const std::string& prefix = options.difference_prefix;
+    const ImageError e = reference ? reference->error_to(results[k - 1], prefix.empty() ? prefix : prefix + std::to_string(k) + "_")
+                                   : image_error(a, results[0], options);
     if (stream.json) {
       json.begin_object().field("command", "imgerr").field("a", path_a).field("b", path_b);
       json.field("resolution", static_cast<std::int64_t>(e.resolution))

@@ -444,6 +444,71 @@ TEST_F(App, ImageErrorMeasuresSeveralResultsAgainstOneInput) {
   EXPECT_EQ(bad.code, 1);
   EXPECT_TRUE(bad.out.empty()) << bad.out;
   EXPECT_NE(bad.err.find("missing.ply"), std::string::npos) << bad.err;
+  // Difference images: P<k>_<view>.png per B, each the one-B call's P<view>.png; a B that
+  // cannot be read fails the call before any image is written.
+  ASSERT_EQ(run("imgerr " + bunny + " " + dir + "/b.ply --resolution 64 --diff-prefix " + dir + "/one", dir).code, 0);
+  ASSERT_EQ(run("imgerr " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --resolution 64 --diff-prefix " + dir +
+                    "/many",
+                dir)
+                .code,
+            0);
+  for (int view : {0, 7, 19}) {
+    const std::string one = test::slurp(dir + "/one" + std::to_string(view) + ".png");
+    ASSERT_FALSE(one.empty());
+    EXPECT_EQ(test::slurp(dir + "/many2_" + std::to_string(view) + ".png"), one) << view;
+    EXPECT_NE(test::slurp(dir + "/many1_" + std::to_string(view) + ".png"), one) << view;
+  }
+  EXPECT_EQ(run("imgerr " + bunny + " " + dir + "/a.ply " + dir + "/missing.ply --diff-prefix " + dir + "/none",
+                dir)
+                .code,
+            1);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/none1_0.png"));
+}
+
+// Several B against one A: A's samples and tree made once, each B's numbers and error map
+// those of a call of its own (FILE_<k>.ext per B); a bad B, or an error map that would replace
+// an input, fails the call before anything is written or printed.
+TEST_F(App, MetroMeasuresSeveralResultsAgainstOneInput) {
+  ASSERT_EQ(run("simplify " + bunny + " " + dir + "/a.ply --ratio 0.3", dir).code, 0);
+  ASSERT_EQ(run("simplify " + bunny + " " + dir + "/b.ply --ratio 0.05", dir).code, 0);
+  auto field = [](const std::string& json, const std::string& name, std::size_t from = 0) {
+    const std::size_t at = json.find("\"" + name + "\": ", from);
+    return at == std::string::npos ? std::string() : json.substr(at, json.find(',', at) - at);
+  };
+  const std::string common = " --json --samples 20000";
+  const AppRun one_a = run("metro " + bunny + " " + dir + "/a.ply --error-ply " + dir + "/ea.ply" + common, dir);
+  const AppRun one_b = run("metro " + bunny + " " + dir + "/b.ply --error-ply " + dir + "/eb.ply" + common, dir);
+  const AppRun both =
+      run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --error-ply " + dir + "/e.ply" + common, dir);
+  ASSERT_EQ(both.code, 0) << both.err;
+  ASSERT_FALSE(field(one_a.out, "hausdorff").empty()) << one_a.out;
+  EXPECT_EQ(both.out.find('['), both.out.find_first_not_of(" \n")) << both.out;  // an array
+  const std::size_t second = both.out.find("\"command\"", both.out.find("\"command\"") + 1);
+  ASSERT_NE(second, std::string::npos) << both.out;
+  for (const char* name : {"hausdorff", "rms", "mean"}) {
+    EXPECT_EQ(field(both.out, name), field(one_a.out, name)) << name;
+    EXPECT_EQ(field(both.out, name, second), field(one_b.out, name)) << name;
+  }
+  EXPECT_NE(field(one_a.out, "hausdorff"), field(one_b.out, "hausdorff"));
+  EXPECT_EQ(test::slurp(dir + "/e_1.ply"), test::slurp(dir + "/ea.ply"));
+  EXPECT_EQ(test::slurp(dir + "/e_2.ply"), test::slurp(dir + "/eb.ply"));
+  const AppRun text = run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --samples 20000", dir);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("b.ply ("), std::string::npos) << text.out;
+
+  const AppRun bad =
+      run("metro " + bunny + " " + dir + "/a.ply " + dir + "/missing.ply --json --error-ply " + dir + "/x.ply", dir);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(bad.out.empty()) << bad.out;
+  EXPECT_NE(bad.err.find("missing.ply"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x_1.ply"));
+  // The error map of one B named as that B: refused, B unchanged.
+  const std::string b_before = test::slurp(dir + "/b.ply");
+  const AppRun clobber = run("metro " + bunny + " " + dir + "/b.ply --error-ply " + dir + "/b.ply", dir);
+  EXPECT_EQ(clobber.code, 2) << clobber.err;
+  EXPECT_NE(clobber.err.find("overwrite"), std::string::npos) << clobber.err;
+  EXPECT_EQ(test::slurp(dir + "/b.ply"), b_before);
+  EXPECT_EQ(run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --error-ply -", dir).code, 2);
 }
 
 TEST_F(App, SimplifyVgWritesEveryLevelAndDropsHiddenFaces) {

@@ -156,13 +156,17 @@ ImageErrorReference::ImageErrorReference(const Mesh& a, const ImageErrorOptions&
 
 ImageErrorReference::~ImageErrorReference() = default;
 
-ImageError ImageErrorReference::error_to(const Mesh& b) const {
+ImageError ImageErrorReference::error_to(const Mesh& b) const { return error_to(b, options_.difference_prefix); }
+
+ImageError ImageErrorReference::error_to(const Mesh& b, const std::string& difference_prefix) const {
   const auto start = std::chrono::steady_clock::now();
   const View view = frame_views(a_, b);
   const bool own_frame = own_ && view.center == own_->view.center && view.radius == own_->view.radius;
   ViewImages widened;  // A in a frame widened for B
   if (!own_frame) widened = render_views(a_, view, options_);
-  ImageError out = compare_views(own_frame ? own_->images : widened, render_views(b, view, options_), options_);
+  ImageErrorOptions options = options_;
+  options.difference_prefix = difference_prefix;
+  ImageError out = compare_views(own_frame ? own_->images : widened, render_views(b, view, options), options);
   out.seconds = seconds_since(start);
   return out;
 }

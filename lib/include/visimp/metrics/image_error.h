@@ -59,7 +59,11 @@ class ImageErrorReference {
   ImageErrorReference& operator=(const ImageErrorReference&) = delete;
 
   /// `seconds` counts B's rendering and the comparison (and A's, when the frame widens).
+  /// Throws IoError if a difference image cannot be written.
   ImageError error_to(const Mesh& b) const;
+  /// The same, writing its difference images to PREFIX<n>.png instead of the options' prefix
+  /// (none when empty): one reference, several B, each B's images named apart.
+  ImageError error_to(const Mesh& b, const std::string& difference_prefix) const;
 
  private:
   struct Views;  // private to image_error.cpp
