@@ -320,10 +320,9 @@ py::object simplify_py(const py::handle& vertices, const py::handle& faces, cons
   return out;
 }
 
-py::dict metro_py(const py::handle& a_pair, const py::handle& b_pair, std::size_t samples, double density,
-                  const std::string& sampling_name, std::uint64_t seed, long long threads, std::size_t edge_samples,
-                  std::size_t histogram_bins, const py::object& visibility) {
-  const Mesh a = mesh_from_pair(a_pair, "A"), b = mesh_from_pair(b_pair, "B");
+SurfaceDistanceOptions metro_options(std::size_t samples, double density, const std::string& sampling_name,
+                                     std::uint64_t seed, long long threads, std::size_t edge_samples,
+                                     std::size_t histogram_bins) {
   SurfaceDistanceOptions options;
   options.samples = samples;
   options.density = density;
@@ -334,21 +333,79 @@ py::dict metro_py(const py::handle& a_pair, const py::handle& b_pair, std::size_
   options.histogram_bins = histogram_bins;
   if (!(density >= 0) || !std::isfinite(density)) throw py::value_error("density must be >= 0");
   if (histogram_bins < 1) throw py::value_error("histogram_bins must be at least 1");
+  return options;
+}
+
+py::dict metro_py(const py::handle& a_pair, const py::handle& b_pair, std::size_t samples, double density,
+                  const std::string& sampling_name, std::uint64_t seed, long long threads, std::size_t edge_samples,
+                  std::size_t histogram_bins, const py::object& visibility) {
+  const Mesh a = mesh_from_pair(a_pair, "A"), b = mesh_from_pair(b_pair, "B");
+  SurfaceDistanceOptions options =
+      metro_options(samples, density, sampling_name, seed, threads, edge_samples, histogram_bins);
   if (!visibility.is_none()) options.face_visibility = face_values_from_array(visibility, a.num_faces(), "visibility");
   const SurfaceDistance d = without_gil([&](SignalCheck&) { return surface_distance(a, b, options); });
   return distance_dict(d, !options.face_visibility.empty());
 }
 
-py::dict image_error_py(const py::handle& a_pair, const py::handle& b_pair, int resolution, int supersample,
-                        long long threads) {
-  const Mesh a = mesh_from_pair(a_pair, "A"), b = mesh_from_pair(b_pair, "B");
+// A measured against many B (the levels of a curve): A's samples and search tree are made on the
+// first call and kept. Owns its copy of A, on the heap: the library's reference holds A's address.
+class MetroReference {
+ public:
+  MetroReference(const py::handle& a_pair, std::size_t samples, double density, const std::string& sampling_name,
+                 std::uint64_t seed, long long threads, std::size_t edge_samples, std::size_t histogram_bins,
+                 const py::object& visibility)
+      : a_(std::make_unique<Mesh>(mesh_from_pair(a_pair, "A"))),
+        options_(metro_options(samples, density, sampling_name, seed, threads, edge_samples, histogram_bins)) {
+    if (!visibility.is_none())
+      options_.face_visibility = face_values_from_array(visibility, a_->num_faces(), "visibility");
+    reference_ = std::make_unique<SurfaceDistanceReference>(*a_);
+  }
+  py::dict distance_to(const py::handle& b_pair) const {
+    const Mesh b = mesh_from_pair(b_pair, "B");
+    const SurfaceDistance d = without_gil([&](SignalCheck&) { return reference_->distance_to(b, options_); });
+    return distance_dict(d, !options_.face_visibility.empty());
+  }
+
+ private:
+  std::unique_ptr<Mesh> a_;
+  SurfaceDistanceOptions options_;
+  std::unique_ptr<SurfaceDistanceReference> reference_;
+};
+
+ImageErrorOptions image_options(int resolution, int supersample, long long threads) {
   ImageErrorOptions options;
   options.resolution = resolution;
   options.supersample = supersample;
   options.threads = thread_count(threads);
+  return options;
+}
+
+py::dict image_error_py(const py::handle& a_pair, const py::handle& b_pair, int resolution, int supersample,
+                        long long threads) {
+  const Mesh a = mesh_from_pair(a_pair, "A"), b = mesh_from_pair(b_pair, "B");
+  const ImageErrorOptions options = image_options(resolution, supersample, threads);
   const ImageError e = without_gil([&](SignalCheck&) { return image_error(a, b, options); });
   return image_dict(e);
 }
+
+// A's 20 views drawn once for many B. Owns its copy of A (the library's reference holds A's address).
+class ImageReference {
+ public:
+  ImageReference(const py::handle& a_pair, int resolution, int supersample, long long threads)
+      : a_(std::make_unique<Mesh>(mesh_from_pair(a_pair, "A"))) {
+    const ImageErrorOptions options = image_options(resolution, supersample, threads);
+    reference_ = without_gil([&](SignalCheck&) { return std::make_unique<ImageErrorReference>(*a_, options); });
+  }
+  py::dict error_to(const py::handle& b_pair) const {
+    const Mesh b = mesh_from_pair(b_pair, "B");
+    const ImageError e = without_gil([&](SignalCheck&) { return reference_->error_to(b); });
+    return image_dict(e);
+  }
+
+ private:
+  std::unique_ptr<Mesh> a_;
+  std::unique_ptr<ImageErrorReference> reference_;
+};
 
 py::dict level_dict(const CompareLevel& l) {
   return py::dict("target"_a = l.target, "faces"_a = l.faces, "stop_reason"_a = to_string(l.stop_reason),
@@ -486,6 +543,21 @@ PYBIND11_MODULE(visimp, m) {
   m.def("image_error", &image_error_py, "A"_a, "B"_a, py::kw_only(), "resolution"_a = image.resolution,
         "supersample"_a = image.supersample, "threads"_a = 0,
         "Image RMS error (eq. 5.11) from the 20 dodecahedron views of A's bounding sphere, flat-shaded.");
+  py::class_<MetroReference>(m, "MetroReference",
+                             "A kept for measuring many B against it (the levels of a curve): A's samples and "
+                             "search tree are made once. distance_to(B) equals metro(A, B) with the same options.")
+      .def(py::init<const py::handle&, std::size_t, double, const std::string&, std::uint64_t, long long,
+                    std::size_t, std::size_t, const py::object&>(),
+           "A"_a, py::kw_only(), "samples"_a = metro.samples, "density"_a = metro.density, "sampling"_a = "random",
+           "seed"_a = metro.seed, "threads"_a = 0, "edge_samples"_a = metro.edge_samples,
+           "histogram_bins"_a = metro.histogram_bins, "visibility"_a = py::none())
+      .def("distance_to", &MetroReference::distance_to, "B"_a, "metro(A, B): the same dict, A's share made once.");
+  py::class_<ImageReference>(m, "ImageErrorReference",
+                             "A's 20 views drawn once for many B. error_to(B) equals image_error(A, B) with the "
+                             "same options.")
+      .def(py::init<const py::handle&, int, int, long long>(), "A"_a, py::kw_only(),
+           "resolution"_a = image.resolution, "supersample"_a = image.supersample, "threads"_a = 0)
+      .def("error_to", &ImageReference::error_to, "B"_a, "image_error(A, B): the same dict, A drawn once.");
   m.def("compare", &compare_py, "path"_a, "out_dir"_a, py::kw_only(), "levels"_a = cmp.levels,
         "targets"_a = py::none(), "min_ratio"_a = cmp.min_ratio, "max_ratio"_a = cmp.max_ratio, "cameras"_a = 258,
         "resolution"_a = render.resolution, "threads"_a = 0, "backend"_a = "raster",

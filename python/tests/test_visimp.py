@@ -233,6 +233,29 @@ def test_image_error_equals_the_app(tmp_path, bunny):
     assert visimp.image_error((V, F), (V, F), resolution=32)["rms"] == 0
 
 
+def test_references_measure_many_results_as_one_call_each(bunny):
+    V, F = bunny
+    levels = [visimp.simplify(V, F, target=t)[:2] for t in (0.3, 0.05)]
+    vis = np.linspace(0.0, 1.0, len(F))
+    metro = visimp.MetroReference((V, F), samples=20000, threads=1, visibility=vis)
+    image = visimp.ImageErrorReference((V, F), resolution=64, threads=1)
+    for B in levels:
+        d = metro.distance_to(B)
+        one = visimp.metro((V, F), B, samples=20000, threads=1, visibility=vis)
+        for key in ("hausdorff", "rms", "diagonal"):
+            assert d[key] == one[key]
+        for side in ("a_to_b", "b_to_a"):
+            np.testing.assert_array_equal(d[side]["histogram_area_share"], one[side]["histogram_area_share"])
+        assert d["visible"] == one["visible"]
+        e = image.error_to(B)
+        assert e["rms"] == visimp.image_error((V, F), B, resolution=64, threads=1)["rms"]
+    assert metro.distance_to(levels[0])["hausdorff"] != metro.distance_to(levels[1])["hausdorff"]
+    with pytest.raises(ValueError):
+        visimp.ImageErrorReference((V, F), supersample=9)
+    with pytest.raises(ValueError):
+        metro.distance_to(V)  # not a (V, F) pair
+
+
 def test_compare_writes_the_report(tmp_path):
     out = tmp_path / "cmp"
     r = visimp.compare(mesh_path("teapot.ply"), str(out), levels=2, cameras=18, resolution=96,
