@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -97,7 +98,9 @@ inline ChildResult run_in_child(std::size_t count, const std::function<std::vect
   bool over_limit = false;
   for (;;) {  // wait for the child's numbers (or its end), checking its CPU every 100 ms
     pollfd ready{fds[0], POLLIN, 0};
-    if (poll(&ready, 1, 100) != 0) break;  // numbers, end of file, or an error: read tells
+    const int polled = poll(&ready, 1, 100);
+    if (polled < 0 && errno == EINTR) continue;
+    if (polled != 0) break;  // numbers, end of file, or an error: read tells
     timespec used{};
     if (can_watch && clock_gettime(child_cpu, &used) == 0 &&
         double(used.tv_sec) + 1e-9 * double(used.tv_nsec) > cpu_limit_seconds) {
