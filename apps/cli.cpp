@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <new>
 #include <sstream>
 
@@ -133,9 +134,15 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
     positionals_.push_back(output_flag_value_);
   }
   if (positionals_.size() < min_positionals_ || positionals_.size() > max_positionals_)
-    throw UsageError("expected " + std::to_string(min_positionals_) +
-                     (max_positionals_ != min_positionals_ ? ".." + std::to_string(max_positionals_) : "") +
-                     " file argument(s), got " + std::to_string(positionals_.size()) + " (usage: " + usage_ + ")");
+  {
+    const std::string expected =
+        max_positionals_ == std::numeric_limits<std::size_t>::max()
+            ? "at least " + std::to_string(min_positionals_)
+            : std::to_string(min_positionals_) +
+                  (max_positionals_ != min_positionals_ ? ".." + std::to_string(max_positionals_) : "");
+    throw UsageError("expected " + expected + " file argument(s), got " + std::to_string(positionals_.size()) +
+                     " (usage: " + usage_ + ")");
+  }
   return true;
 }
 

@@ -509,6 +509,9 @@ TEST_F(App, MetroMeasuresSeveralResultsAgainstOneInput) {
   EXPECT_NE(clobber.err.find("overwrite"), std::string::npos) << clobber.err;
   EXPECT_EQ(test::slurp(dir + "/b.ply"), b_before);
   EXPECT_EQ(run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --error-ply -", dir).code, 2);
+  const AppRun alone = run("metro " + bunny, dir);
+  EXPECT_EQ(alone.code, 2);
+  EXPECT_NE(alone.err.find("expected at least 2 file argument(s), got 1"), std::string::npos) << alone.err;
 }
 
 TEST_F(App, SimplifyVgWritesEveryLevelAndDropsHiddenFaces) {
