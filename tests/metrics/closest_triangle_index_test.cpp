@@ -88,6 +88,36 @@ TEST(ClosestTriangleIndex, MatchesBruteForceWhenBuiltOnSeveralThreads) {
   }
 }
 
+// For a running maximum: above the bound the answer is exact; at or below it, any value up to
+// the bound will do (max(bound, answer) is unchanged), and a bound past every distance needs no
+// search. A running maximum over many points equals the maximum of exact queries.
+TEST(ClosestTriangleIndex, DistancePastABoundKeepsARunningMaximumExact) {
+  const Mesh m = read_mesh(test::bundled_mesh("bunny.ply"));
+  const ClosestTriangleIndex index(m, 1);
+  const BoundingBox box = bounding_box(m);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  std::uint32_t hint = ClosestTriangleIndex::kNoHint, exact_hint = ClosestTriangleIndex::kNoHint;
+  double running = 0, exact_max = 0;
+  std::size_t below = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p{box.min.x + u(rng) * (box.max.x - box.min.x), box.min.y + u(rng) * (box.max.y - box.min.y),
+                 box.min.z + u(rng) * (box.max.z - box.min.z)};
+    const double exact = index.squared_distance(p, exact_hint);
+    ASSERT_EQ(exact, brute_force_squared_distance(m, p));
+    const double past = index.squared_distance_past(p, hint, running);
+    if (exact > running)
+      EXPECT_EQ(past, exact) << i;
+    else
+      EXPECT_LE(past, running) << i;
+    below += exact <= running;
+    running = std::max(running, past);
+    exact_max = std::max(exact_max, exact);
+    ASSERT_EQ(running, exact_max) << i;
+  }
+  EXPECT_GT(below, 1000u);  // the maximum settles early: most points are at or below it
+}
+
 TEST(ClosestTriangleIndex, SkipsDegenerateFaces) {
   Mesh m = test::grid(3);
   m.faces.push_back({0, 0, 1});  // repeated index: no area, must not be indexed

@@ -118,6 +118,29 @@ TEST(SurfaceDistance, HistogramCoversTheAreaAndEdgesAddToTheMaximumOnly) {
   EXPECT_GT(d.a_to_b.samples, d.a_to_b.face_samples);  // vertices and edges were sampled too
 }
 
+// Vertex and edge samples count only through their maximum. With error maps A's vertices are
+// measured one by one; without them (and for B's vertices and all edges) a block's running
+// maximum lets most samples skip the search. The numbers must be the same either way (few face
+// samples and many edge samples: the vertices and edges weigh in the maximum).
+TEST(SurfaceDistance, VertexAndEdgeMaximaAreTheSameWithAndWithoutErrorMaps) {
+  const Mesh a = test::icosphere(3), b = test::icosphere(1);
+  SurfaceDistanceOptions options;
+  options.samples = 50;
+  options.edge_samples = 20000;
+  const SurfaceDistance plain = surface_distance(a, b, options);
+  options.vertex_errors = true;
+  const SurfaceDistance mapped = surface_distance(a, b, options);
+  EXPECT_EQ(plain.a_to_b.max, mapped.a_to_b.max);
+  EXPECT_EQ(plain.b_to_a.max, mapped.b_to_a.max);
+  EXPECT_EQ(plain.hausdorff, mapped.hausdorff);
+  EXPECT_EQ(plain.rms, mapped.rms);
+  EXPECT_EQ(plain.a_to_b.samples, mapped.a_to_b.samples);
+  float vertex_max = 0;
+  for (float e : mapped.vertex_error) vertex_max = std::max(vertex_max, e);
+  EXPECT_GT(vertex_max, 0.0f);
+  EXPECT_LE(vertex_max, static_cast<float>(plain.a_to_b.max));
+}
+
 TEST(SurfaceDistance, VisibilityWeightingFollowsV) {
   // Two planes 0.25 apart, except that half of A (x < 2) is bent further away; with V = 0 on
   // that half the visible numbers see only the flat half.

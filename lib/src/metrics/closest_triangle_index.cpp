@@ -177,11 +177,13 @@ std::uint32_t ClosestTriangleIndex::build(std::vector<std::uint32_t>& order, con
   return at.node;
 }
 
-double ClosestTriangleIndex::squared_distance(const Vec3& p, std::uint32_t& hint) const {
+template <bool kBounded>
+double ClosestTriangleIndex::search(const Vec3& p, std::uint32_t& hint, double bound) const {
   double best = std::numeric_limits<double>::infinity();
   if (hint < triangles_.size()) {
     const Triangle& t = triangles_[hint];
     best = point_triangle_squared_distance(p, t.a, t.ab, t.ac);
+    if (kBounded && best <= bound) return best;
   }
   const Vec3 q = p - centre_;
   auto box_distance = [&q](const Box& b) {
@@ -213,6 +215,7 @@ double ClosestTriangleIndex::squared_distance(const Vec3& p, std::uint32_t& hint
     if (e.d2 >= best) continue;
     if (e.ref & kLeaf) {
       test_leaf(e.ref, e.leaf_size);
+      if (kBounded && best <= bound) return best;  // the nearest is within the bound too
       continue;
     }
     const Node& n = nodes_[e.ref];
@@ -223,6 +226,14 @@ double ClosestTriangleIndex::squared_distance(const Vec3& p, std::uint32_t& hint
     if ((near ? d1 : d0) < best) stack[top++] = {n.child[near], n.leaf_size[near], near ? d1 : d0};
   }
   return best;
+}
+
+double ClosestTriangleIndex::squared_distance(const Vec3& p, std::uint32_t& hint) const {
+  return search<false>(p, hint, 0.0);
+}
+
+double ClosestTriangleIndex::squared_distance_past(const Vec3& p, std::uint32_t& hint, double bound) const {
+  return search<true>(p, hint, bound);
 }
 
 void ClosestTriangleIndex::squared_distances(const Vec3* points, std::size_t n, double* squared,

@@ -31,6 +31,12 @@ class ClosestTriangleIndex {
   /// try first, replaced by the nearest one found; start with kNoHint.
   double squared_distance(const Vec3& p, std::uint32_t& hint) const;
 
+  /// For a running maximum of such distances: the squared distance to the nearest triangle
+  /// when it is above `bound`, otherwise some value <= bound, so that max(bound, result) is
+  /// always max(bound, squared_distance(p)). The search stops at the first triangle within
+  /// `bound` — most often the hint's, without a step into the tree.
+  double squared_distance_past(const Vec3& p, std::uint32_t& hint, double bound) const;
+
   /// The same for points[0..n) (close together, e.g. one face's samples in Morton order),
   /// into squared[0..n). Faster than one query each: points are taken in groups; a group's
   /// first point gets a full query whose triangle bounds every distance in the group (U), and
@@ -62,6 +68,10 @@ class ClosestTriangleIndex {
     Box box;
     std::uint8_t leaf_size = 0;
   };
+  // squared_distance(), or with kBounded squared_distance_past().
+  template <bool kBounded>
+  double search(const Vec3& p, std::uint32_t& hint, double bound) const;
+
   // Subtrees this large build their halves on two threads.
   static constexpr std::uint32_t kParallelTriangles = std::uint32_t(1) << 16;
   static std::uint32_t subtree_nodes(std::uint32_t n);

@@ -152,9 +152,9 @@ void draw_face_samples(const Mesh& m, const SamplePlan& plan, std::size_t f, std
 // Distances from one surface's samples to the other surface. Face-sample distances are kept
 // in face order (face_offset), the weight of each being area / face_samples of its face.
 struct SampleDistances {
-  std::vector<double> vertex;  // per plan.vertices entry
+  std::vector<double> vertex;  // per plan.vertices entry, when asked for (error maps)
   std::vector<double> face;    // per face sample
-  double edge_max = 0;
+  double vertex_max = 0, edge_max = 0;
 };
 
 std::unique_ptr<const ClosestTriangleIndex> build_index(const Mesh& to, int threads, double& seconds_index) {
@@ -165,11 +165,15 @@ std::unique_ptr<const ClosestTriangleIndex> build_index(const Mesh& to, int thre
   return index;
 }
 
+// Vertex and edge samples count only through their largest distance (and the vertices' own
+// values when `vertex_values`, for error maps): each block keeps a running maximum, and a
+// sample whose hint triangle is already within it needs no search (squared_distance_past).
+// The maxima are exact, so the results are those of one full query per sample.
 SampleDistances measure(const Mesh& from, const SamplePlan& plan, const ClosestTriangleIndex& index, int threads,
-                        double& seconds_queries) {
+                        bool vertex_values, double& seconds_queries) {
   const auto t = std::chrono::steady_clock::now();
   SampleDistances d;
-  d.vertex.resize(plan.vertices.size());
+  if (vertex_values) d.vertex.resize(plan.vertices.size());
   d.face.resize(plan.face_offset.back());
   // Work items: blocks of vertices, of edges and of faces, in that order. Consecutive samples
   // lie close together, so each query starts from the previous answer (see the index).
@@ -177,14 +181,25 @@ SampleDistances measure(const Mesh& from, const SamplePlan& plan, const ClosestT
   const std::size_t vertex_blocks = (plan.vertices.size() + kBlock - 1) / kBlock;
   const std::size_t edge_blocks = (plan.edges.size() + kBlock - 1) / kBlock;
   const std::size_t face_blocks = (from.num_faces() + kBlock - 1) / kBlock;
-  std::vector<double> edge_block_max(edge_blocks, 0.0);
+  std::vector<double> vertex_block_max(vertex_blocks, 0.0), edge_block_max(edge_blocks, 0.0);
   const unsigned workers =
       worker_count(threads > 0 ? unsigned(threads) : 0u, vertex_blocks + edge_blocks + face_blocks);
   parallel_for(0, vertex_blocks + edge_blocks + face_blocks, workers, [&](unsigned, std::size_t item) {
     std::uint32_t hint = ClosestTriangleIndex::kNoHint;
     if (item < vertex_blocks) {
-      for (std::size_t i = item * kBlock; i < std::min(plan.vertices.size(), (item + 1) * kBlock); ++i)
-        d.vertex[i] = std::sqrt(index.squared_distance(from.positions[plan.vertices[i]], hint));
+      const std::size_t end = std::min(plan.vertices.size(), (item + 1) * kBlock);
+      double max = 0;
+      if (vertex_values) {
+        for (std::size_t i = item * kBlock; i < end; ++i) {
+          d.vertex[i] = std::sqrt(index.squared_distance(from.positions[plan.vertices[i]], hint));
+          max = std::max(max, d.vertex[i]);
+        }
+      } else {
+        for (std::size_t i = item * kBlock; i < end; ++i)
+          max = std::max(max, index.squared_distance_past(from.positions[plan.vertices[i]], hint, max));
+        max = std::sqrt(max);
+      }
+      vertex_block_max[item] = max;
       return;
     }
     item -= vertex_blocks;
@@ -197,7 +212,7 @@ SampleDistances measure(const Mesh& from, const SamplePlan& plan, const ClosestT
         const std::uint32_t n = plan.edge_samples[e];
         for (std::uint32_t i = 0; i < n; ++i) {
           const double s = (double(i) + rng.uniform()) / double(n);
-          max = std::max(max, index.squared_distance(a * (1 - s) + b * s, hint));
+          max = std::max(max, index.squared_distance_past(a * (1 - s) + b * s, hint, max));
         }
       }
       edge_block_max[item] = std::sqrt(max);
@@ -214,6 +229,7 @@ SampleDistances measure(const Mesh& from, const SamplePlan& plan, const ClosestT
       for (std::size_t s = 0; s < points.size(); ++s) out[s] = std::sqrt(out[s]);
     }
   });
+  for (double m : vertex_block_max) d.vertex_max = std::max(d.vertex_max, m);
   for (double m : edge_block_max) d.edge_max = std::max(d.edge_max, m);
   seconds_queries += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   return d;
@@ -223,8 +239,7 @@ DirectedDistance summarize(const SamplePlan& plan, const SampleDistances& distan
                            double& weighted_sq_sum, double& weight_sum) {
   DirectedDistance d;
   double sum = 0, sq = 0, w = 0;
-  for (double x : distance.vertex) d.max = std::max(d.max, x);
-  d.max = std::max(d.max, distance.edge_max);
+  d.max = std::max(distance.vertex_max, distance.edge_max);
   const std::size_t faces = plan.face_samples.size();
   for (std::size_t f = 0; f < faces; ++f) {  // serial: same rounding for any thread count
     if (plan.face_samples[f] == 0) continue;
@@ -238,7 +253,7 @@ DirectedDistance summarize(const SamplePlan& plan, const SampleDistances& distan
     w += plan.area[f];
   }
   d.face_samples = distance.face.size();
-  d.samples = distance.vertex.size() + plan.edge_total + d.face_samples;
+  d.samples = plan.vertices.size() + plan.edge_total + d.face_samples;
   d.area = w;
   d.mean = w > 0 ? sum / w : 0;
   d.rms = w > 0 ? std::sqrt(sq / w) : 0;
@@ -352,7 +367,7 @@ SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDist
   SampleDistances from_a;
   {  // one index at a time when nothing is kept: the larger mesh's is the largest allocation
     const std::unique_ptr<const ClosestTriangleIndex> index_of_b = build_index(b, options.threads, r.seconds_index);
-    from_a = measure(a, *on_a, *index_of_b, options.threads, r.seconds_queries);
+    from_a = measure(a, *on_a, *index_of_b, options.threads, options.vertex_errors, r.seconds_queries);
   }
   if (cache != nullptr) {
     if (!cache->index) cache->index = build_index(a, options.threads, r.seconds_index);
@@ -361,7 +376,7 @@ SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDist
     own_index = build_index(a, options.threads, r.seconds_index);
     index_of_a = own_index.get();
   }
-  const SampleDistances from_b = measure(b, on_b, *index_of_a, options.threads, r.seconds_queries);
+  const SampleDistances from_b = measure(b, on_b, *index_of_a, options.threads, false, r.seconds_queries);
   double sq = 0, w = 0;
   r.a_to_b = summarize(*on_a, from_a, options.histogram_bins, sq, w);
   r.b_to_a = summarize(on_b, from_b, options.histogram_bins, sq, w);
