@@ -133,8 +133,7 @@ bool ArgParser::parse(const std::vector<std::string>& args) {
     }
     positionals_.push_back(output_flag_value_);
   }
-  if (positionals_.size() < min_positionals_ || positionals_.size() > max_positionals_)
-  {
+  if (positionals_.size() < min_positionals_ || positionals_.size() > max_positionals_) {
     const std::string expected =
         max_positionals_ == std::numeric_limits<std::size_t>::max()
             ? "at least " + std::to_string(min_positionals_)

@@ -1,4 +1,5 @@
 // visimp metro / imgerr: error reports between two meshes (docs/metrics.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -53,6 +54,12 @@ void print_directed(std::ostream& out, const char* title, const DirectedDistance
   }
 }
 
+// Standard input can be read once: at most one of the files may be "-".
+void refuse_stdin_twice(const std::vector<std::string>& paths) {
+  if (std::count(paths.begin(), paths.end(), "-") > 1)
+    throw UsageError("'-' (standard input) can stand for one mesh only");
+}
+
 // FILE for one B; FILE_<k> (before the extension) for the k-th of several.
 std::string numbered_path(const std::string& path, std::size_t k, std::size_t count) {
   if (count == 1) return path;
@@ -62,10 +69,10 @@ std::string numbered_path(const std::string& path, std::size_t k, std::size_t co
 
 // Outputs never replace an input: --error-ply B (or a numbered name that is some B) is refused
 // before anything is written.
-void refuse_overwriting_inputs(const std::string& output, const std::vector<std::string>& inputs, bool in_place) {
+void refuse_overwriting_inputs(const std::string& output, const std::vector<std::string>& inputs) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (output == "-" || in_place || !fs::exists(output, ec)) return;
+  if (output == "-" || !fs::exists(output, ec)) return;
   for (const std::string& input : inputs)
     if (input != "-" && fs::equivalent(output, input, ec))
       throw UsageError(output + ": output would overwrite the input " + input);
@@ -178,29 +185,38 @@ int run_metro(const Args& args) {
   const std::vector<std::string>& paths = parser.positionals();
   const std::string& path_a = paths[0];
   const std::size_t count = paths.size() - 1;
+  refuse_stdin_twice(paths);
   if (count > 1 && (error_ply == "-" || error_png == "-"))
     throw UsageError("--error-ply/--error-png - takes one B (several B write FILE_1, FILE_2, ..)");
   for (std::size_t k = 1; k <= count; ++k) {
-    if (!error_ply.empty()) refuse_overwriting_inputs(numbered_path(error_ply, k, count), paths, stream.in_place);
-    if (!error_png.empty()) refuse_overwriting_inputs(numbered_path(error_png, k, count), paths, stream.in_place);
+    if (!error_ply.empty()) refuse_overwriting_inputs(numbered_path(error_ply, k, count), paths);
+    if (!error_png.empty()) refuse_overwriting_inputs(numbered_path(error_png, k, count), paths);
   }
   const Mesh a = read_input(path_a, stream);
+  require_faces(a, path_a, "measure");
   if (visible) {
     if (a.face_quality.size() != a.num_faces())
       throw InvalidMeshError(path_a + ": --visible needs V as face quality (a 'visimp visibility' output)");
     options.face_visibility = a.face_quality;
   }
-  // Every B read first: a B that cannot be read fails the call before anything is written.
+  // Every B read first: a B that cannot be read, or has no face, fails the call before anything
+  // is written.
   std::vector<Mesh> results;
-  for (std::size_t k = 1; k <= count; ++k) results.push_back(read_input(paths[k], stream));
-  const SurfaceDistanceReference reference(a);
+  for (std::size_t k = 1; k <= count; ++k) {
+    results.push_back(read_input(paths[k], stream));
+    require_faces(results.back(), paths[k], "measure");
+  }
+  // With several B, A's samples and tree are kept between them; one B is one surface_distance(),
+  // which frees them before the bound and the pictures (the same numbers either way).
+  std::optional<SurfaceDistanceReference> reference;
+  if (count > 1) reference.emplace(a);
   // Printed once every B has been measured: a B that fails leaves no partial report on stdout.
   std::ostringstream report;
   JsonWriter json(report);
   if (stream.json && count > 1) json.begin_array();
   for (std::size_t k = 1; k <= count; ++k) {
     const Mesh& b = results[k - 1];
-    const SurfaceDistance d = reference.distance_to(b, options);
+    const SurfaceDistance d = reference ? reference->distance_to(b, options) : surface_distance(a, b, options);
     std::optional<HausdorffBounds> bounds;
     if (bound > 0) bounds = bounded_hausdorff(a, b, bound * d.diagonal, d.hausdorff);
     if (!error_ply.empty()) {
@@ -243,8 +259,9 @@ int run_imgerr(const Args& args) {
   parser.add(option_spec("--threads", "N", threads, "worker threads, 0 = one per hardware thread"));
   parser.add(option_spec("--supersample", "S", supersample,
                          "samples per pixel side, averaged (box filter), 1..8; 1: point sampling"));
-  parser.add(option_spec("--diff-prefix", "P", options.difference_prefix,
-                         "write P0.png..P19.png: |I_A - I_B| in the red channel (several B: P<k>_0.png.., k = 1, 2, ..)"));
+  parser.add(
+      option_spec("--diff-prefix", "P", options.difference_prefix,
+                  "write P0.png..P19.png: |I_A - I_B| in the red channel (several B: P<k>_0.png.., k = 1, 2, ..)"));
   parser.add(describe_options(stream, false));
   if (!parser.parse(args)) return 0;
   check_pixels(resolution, "--resolution");
@@ -255,6 +272,7 @@ int run_imgerr(const Args& args) {
   const std::vector<std::string>& paths = parser.positionals();
   const std::string& path_a = paths[0];
   const std::size_t count = paths.size() - 1;
+  refuse_stdin_twice(paths);
   const Mesh a = read_input(path_a, stream);
   // Every B read first: a B that cannot be read fails the call before anything is written.
   std::vector<Mesh> results;
@@ -270,8 +288,9 @@ int run_imgerr(const Args& args) {
   for (std::size_t k = 1; k <= count; ++k) {
     const std::string& path_b = paths[k];
     const std::string& prefix = options.difference_prefix;
-    const ImageError e = reference ? reference->error_to(results[k - 1], prefix.empty() ? prefix : prefix + std::to_string(k) + "_")
-                                   : image_error(a, results[0], options);
+    const ImageError e =
+        reference ? reference->error_to(results[k - 1], prefix.empty() ? prefix : prefix + std::to_string(k) + "_")
+                  : image_error(a, results[0], options);
     if (stream.json) {
       json.begin_object().field("command", "imgerr").field("a", path_a).field("b", path_b);
       json.field("resolution", static_cast<std::int64_t>(e.resolution))

@@ -3,6 +3,7 @@
 // (VmHWM, reset at fork) minus its RSS at fork, after handing freed heap pages back.
 #pragma once
 
+#include <fcntl.h>
 #include <malloc.h>
 #include <poll.h>
 #include <signal.h>
@@ -70,7 +71,7 @@ struct ChildResult {
 inline ChildResult run_in_child(std::size_t count, const std::function<std::vector<double>()>& method,
                                 double cpu_limit_seconds = 300) {
   int fds[2];
-  if (pipe(fds) != 0) return {};
+  if (pipe2(fds, O_CLOEXEC) != 0) return {};
   std::fflush(nullptr);  // or the child inherits unwritten output and may write it again
   const pid_t pid = fork();
   if (pid == 0) {
@@ -95,12 +96,12 @@ inline ChildResult run_in_child(std::size_t count, const std::function<std::vect
   }
   clockid_t child_cpu{};
   const bool can_watch = clock_getcpuclockid(pid, &child_cpu) == 0;
+  if (!can_watch) std::fprintf(stderr, "bench: cannot read a child's CPU clock: no CPU limit for it\n");
   bool over_limit = false;
   for (;;) {  // wait for the child's numbers (or its end), checking its CPU every 100 ms
     pollfd ready{fds[0], POLLIN, 0};
     const int polled = poll(&ready, 1, 100);
-    if (polled < 0 && errno == EINTR) continue;
-    if (polled != 0) break;  // numbers, end of file, or an error: read tells
+    if (polled > 0 || (polled < 0 && errno != EINTR)) break;  // numbers, end of file, or an error: read tells
     timespec used{};
     if (can_watch && clock_gettime(child_cpu, &used) == 0 &&
         double(used.tv_sec) + 1e-9 * double(used.tv_nsec) > cpu_limit_seconds) {

@@ -347,8 +347,9 @@ py::dict metro_py(const py::handle& a_pair, const py::handle& b_pair, std::size_
   return distance_dict(d, !options.face_visibility.empty());
 }
 
-// A measured against many B (the levels of a curve): A's samples and search tree are made on the
-// first call and kept. Owns its copy of A, on the heap: the library's reference holds A's address.
+// A measured against many B (the levels of a curve): A's search tree (and samples, while their
+// count does not depend on B) are made on the first call and kept. Owns its copy of A, on the
+// heap: the library's reference holds A's address.
 class MetroReference {
  public:
   MetroReference(const py::handle& a_pair, std::size_t samples, double density, const std::string& sampling_name,
@@ -544,8 +545,9 @@ PYBIND11_MODULE(visimp, m) {
         "supersample"_a = image.supersample, "threads"_a = 0,
         "Image RMS error (eq. 5.11) from the 20 dodecahedron views of A's bounding sphere, flat-shaded.");
   py::class_<MetroReference>(m, "MetroReference",
-                             "A kept for measuring many B against it (the levels of a curve): A's samples and "
-                             "search tree are made once. distance_to(B) equals metro(A, B) with the same options.")
+                             "A kept for measuring many B against it (the levels of a curve): A's search tree is "
+                             "made once, and A's samples while their count does not depend on B. distance_to(B) "
+                             "equals metro(A, B) with the same options.")
       .def(py::init<const py::handle&, std::size_t, double, const std::string&, std::uint64_t, long long,
                     std::size_t, std::size_t, const py::object&>(),
            "A"_a, py::kw_only(), "samples"_a = metro.samples, "density"_a = metro.density, "sampling"_a = "random",

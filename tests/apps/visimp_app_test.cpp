@@ -454,9 +454,11 @@ TEST_F(App, ImageErrorMeasuresSeveralResultsAgainstOneInput) {
             0);
   for (int view : {0, 7, 19}) {
     const std::string one = test::slurp(dir + "/one" + std::to_string(view) + ".png");
+    const std::string first = test::slurp(dir + "/many1_" + std::to_string(view) + ".png");
     ASSERT_FALSE(one.empty());
+    ASSERT_FALSE(first.empty());
     EXPECT_EQ(test::slurp(dir + "/many2_" + std::to_string(view) + ".png"), one) << view;
-    EXPECT_NE(test::slurp(dir + "/many1_" + std::to_string(view) + ".png"), one) << view;
+    EXPECT_NE(first, one) << view;
   }
   EXPECT_EQ(run("imgerr " + bunny + " " + dir + "/a.ply " + dir + "/missing.ply --diff-prefix " + dir + "/none",
                 dir)
@@ -480,6 +482,8 @@ TEST_F(App, MetroMeasuresSeveralResultsAgainstOneInput) {
   const AppRun one_b = run("metro " + bunny + " " + dir + "/b.ply --error-ply " + dir + "/eb.ply" + common, dir);
   const AppRun both =
       run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --error-ply " + dir + "/e.ply" + common, dir);
+  ASSERT_EQ(one_a.code, 0) << one_a.err;
+  ASSERT_EQ(one_b.code, 0) << one_b.err;
   ASSERT_EQ(both.code, 0) << both.err;
   ASSERT_FALSE(field(one_a.out, "hausdorff").empty()) << one_a.out;
   EXPECT_EQ(both.out.find('['), both.out.find_first_not_of(" \n")) << both.out;  // an array
@@ -490,8 +494,11 @@ TEST_F(App, MetroMeasuresSeveralResultsAgainstOneInput) {
     EXPECT_EQ(field(both.out, name, second), field(one_b.out, name)) << name;
   }
   EXPECT_NE(field(one_a.out, "hausdorff"), field(one_b.out, "hausdorff"));
+  ASSERT_FALSE(test::slurp(dir + "/ea.ply").empty());
+  ASSERT_FALSE(test::slurp(dir + "/eb.ply").empty());
   EXPECT_EQ(test::slurp(dir + "/e_1.ply"), test::slurp(dir + "/ea.ply"));
   EXPECT_EQ(test::slurp(dir + "/e_2.ply"), test::slurp(dir + "/eb.ply"));
+  EXPECT_EQ(both.out.back(), '\n');  // the array ends its line, as one summary does
   const AppRun text = run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --samples 20000", dir);
   ASSERT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("b.ply ("), std::string::npos) << text.out;
@@ -509,6 +516,13 @@ TEST_F(App, MetroMeasuresSeveralResultsAgainstOneInput) {
   EXPECT_NE(clobber.err.find("overwrite"), std::string::npos) << clobber.err;
   EXPECT_EQ(test::slurp(dir + "/b.ply"), b_before);
   EXPECT_EQ(run("metro " + bunny + " " + dir + "/a.ply " + dir + "/b.ply --error-ply -", dir).code, 2);
+  // A numbered error map named as some B (e_2.ply for the second B, here the first B itself).
+  ASSERT_EQ(run("simplify " + bunny + " " + dir + "/e_2.ply --ratio 0.3", dir).code, 0);
+  const std::string e2_before = test::slurp(dir + "/e_2.ply");
+  EXPECT_EQ(run("metro " + bunny + " " + dir + "/e_2.ply " + dir + "/b.ply --error-ply " + dir + "/e.ply", dir).code,
+            2);
+  EXPECT_EQ(test::slurp(dir + "/e_2.ply"), e2_before);
+  EXPECT_EQ(run("metro " + bunny + " - -", dir).code, 2);  // standard input read once
   const AppRun alone = run("metro " + bunny, dir);
   EXPECT_EQ(alone.code, 2);
   EXPECT_NE(alone.err.find("expected at least 2 file argument(s), got 1"), std::string::npos) << alone.err;

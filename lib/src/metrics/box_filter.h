@@ -9,6 +9,7 @@ namespace visimp::detail {
 
 /// Adds `sample_value(id)` of every sample with a nonzero id in the `samples` × `samples` frame
 /// `ids` (row-major) to its pixel of `image`, (samples / supersample)² floats, row-major.
+/// `samples` is a multiple of `supersample` (the frame is rendered at resolution × supersample).
 /// Samples go in the order of a walk along each row (the sums' rounding is that order's), a
 /// pixel's `supersample` samples at a time, with no division per sample.
 template <class SampleValue>

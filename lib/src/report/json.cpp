@@ -84,6 +84,7 @@ JsonWriter& JsonWriter::end_array() {
   stack_.pop_back();
   if (!empty) newline();
   out_ << ']';
+  if (stack_.empty()) out_ << '\n';  // a top-level array ends its line, as an object does
   return *this;
 }
 
