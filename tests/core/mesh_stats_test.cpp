@@ -2,6 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <map>
+#include <random>
+#include <utility>
+
 #include "test_meshes.h"
 #include "visimp/io/mesh_io.h"
 
@@ -64,6 +70,51 @@ TEST(MeshStats, CountsMisorientedDuplicateDegenerateAndIsolated) {
   EXPECT_EQ(s.degenerate_faces, 1u);
   EXPECT_EQ(s.isolated_vertices, 1u);
   EXPECT_GE(s.non_manifold_edges, 1u);  // edge 0-1 carries faces 0, 2 and 3
+}
+
+// Edges and duplicate faces are grouped by their lowest vertex before sorting; on random
+// faces over a few vertices (hubs of many edges, vertices with none, repeated corners) the
+// counts must be those of a plain map of every edge and face.
+TEST(MeshStats, EdgeAndDuplicateCountsMatchAPlainCountOnRandomFaces) {
+  std::mt19937 random_engine(5);
+  auto random = [&random_engine] { return static_cast<std::uint32_t>(random_engine()); };
+  for (int round = 0; round < 20; ++round) {
+    Mesh m;
+    const std::uint32_t vertices = 3 + random() % 40;
+    for (std::uint32_t v = 0; v < vertices; ++v)
+      m.positions.push_back({double(random() % 7), double(random() % 7), double(random() % 7)});
+    const std::uint32_t faces = 1 + random() % 120;
+    for (std::uint32_t f = 0; f < faces; ++f)
+      m.faces.push_back({static_cast<VertexIndex>(random() % vertices), static_cast<VertexIndex>(random() % vertices),
+                         static_cast<VertexIndex>(random() % vertices)});
+    std::map<std::pair<VertexIndex, VertexIndex>, std::pair<int, int>> edges;  // faces, forward ones
+    std::map<std::array<VertexIndex, 3>, int> corner_sets;
+    for (const Face& f : m.faces) {
+      for (int k = 0; k < 3; ++k) {
+        const VertexIndex a = f[k], b = f[(k + 1) % 3];
+        if (a == b) continue;
+        auto& e = edges[{std::min(a, b), std::max(a, b)}];
+        ++e.first;
+        e.second += a < b;
+      }
+      std::array<VertexIndex, 3> t{f[0], f[1], f[2]};
+      std::sort(t.begin(), t.end());
+      ++corner_sets[t];
+    }
+    std::size_t boundary = 0, non_manifold = 0, misoriented = 0, duplicates = 0;
+    for (const auto& [edge, e] : edges) {
+      boundary += e.first == 1;
+      non_manifold += e.first > 2;
+      misoriented += e.first == 2 && e.second != 1;
+    }
+    for (const auto& [t, count] : corner_sets) duplicates += static_cast<std::size_t>(count - 1);
+    const MeshStats s = analyze(m);
+    EXPECT_EQ(s.edges, edges.size()) << round;
+    EXPECT_EQ(s.boundary_edges, boundary) << round;
+    EXPECT_EQ(s.non_manifold_edges, non_manifold) << round;
+    EXPECT_EQ(s.misoriented_edges, misoriented) << round;
+    EXPECT_EQ(s.duplicate_faces, duplicates) << round;
+  }
 }
 
 TEST(MeshStats, MatchesTheSourcesTableForTheTeapot) {

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "visimp/core/union_find.h"
 
@@ -28,6 +30,24 @@ struct HalfEdgeKey {
   bool operator<(const HalfEdgeKey& o) const { return key < o.key || (key == o.key && corner < o.corner); }
 };
 
+// The items `each(emit)` emits, grouped by `group(item)` (< groups) in group order and each
+// group sorted by `<`: the order a full sort gives when the group leads the order. `each` runs
+// twice, to count and to place, so the items are laid out once without a second array; the
+// sorts are one per group, a handful of items for a vertex. (A full sort of a 14M-face mesh's
+// 42M half-edges took 1.5 s.)
+template <class T, class Each, class Group>
+std::vector<T> grouped_in_order(std::size_t groups, const Each& each, const Group& group) {
+  // next[g]: where group g's next item goes; once all are placed, where group g ends.
+  std::vector<std::size_t> next(groups + 1, 0);
+  each([&](const T& item) { ++next[group(item) + 1]; });
+  for (std::size_t g = 0; g < groups; ++g) next[g + 1] += next[g];
+  std::vector<T> items(next[groups]);
+  each([&](const T& item) { items[next[group(item)]++] = item; });
+  for (std::size_t g = 0, begin = 0; g < groups; begin = next[g++])
+    std::sort(items.begin() + std::ptrdiff_t(begin), items.begin() + std::ptrdiff_t(next[g]));
+  return items;
+}
+
 }  // namespace
 
 MeshStats analyze(const Mesh& mesh) {
@@ -39,24 +59,32 @@ MeshStats analyze(const Mesh& mesh) {
 
   std::vector<char> referenced(s.vertices, 0);
   UnionFind vertex_sets(s.vertices);
-  std::vector<HalfEdgeKey> half_edges;
-  half_edges.reserve(nf * 3);
   for (std::size_t f = 0; f < nf; ++f) {
     const Face& face = mesh.faces[f];
     for (int k = 0; k < 3; ++k) {
-      const VertexIndex a = face[k], b = face[(k + 1) % 3];
-      referenced[a] = 1;
-      vertex_sets.unite(a, b);
-      if (a == b) continue;
-      const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
-      half_edges.push_back({(lo << 32) | hi, static_cast<std::uint32_t>(f * 3 + k), a < b});
+      referenced[face[k]] = 1;
+      vertex_sets.unite(face[k], face[(k + 1) % 3]);
     }
     if (is_degenerate(mesh, face))
       ++s.degenerate_faces;
     else
       s.area += 0.5 * norm(face_normal_unnormalized(mesh, face));
   }
-  std::sort(half_edges.begin(), half_edges.end());
+  // Half-edges in (edge, corner) order, grouped by their lower vertex.
+  const std::vector<HalfEdgeKey> half_edges = grouped_in_order<HalfEdgeKey>(
+      s.vertices,
+      [&mesh, nf](auto&& emit) {
+        for (std::size_t f = 0; f < nf; ++f) {
+          const Face& face = mesh.faces[f];
+          for (int k = 0; k < 3; ++k) {
+            const VertexIndex a = face[k], b = face[(k + 1) % 3];
+            if (a == b) continue;
+            const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
+            emit(HalfEdgeKey{(lo << 32) | hi, static_cast<std::uint32_t>(f * 3 + k), a < b});
+          }
+        }
+      },
+      [](const HalfEdgeKey& h) { return static_cast<std::size_t>(h.key >> 32); });
 
   // Corners around one vertex are joined across manifold edges; a vertex whose corners
   // fall into more than one set has several fans (a non-manifold "bow tie" vertex).
@@ -114,9 +142,18 @@ MeshStats analyze(const Mesh& mesh) {
     }
   }
 
-  std::vector<std::array<VertexIndex, 3>> sorted(mesh.faces.begin(), mesh.faces.end());
-  for (auto& f : sorted) std::sort(f.begin(), f.end());
-  std::sort(sorted.begin(), sorted.end());
+  // Faces as sorted corner triples, in order, grouped by their smallest corner.
+  using Triple = std::array<VertexIndex, 3>;
+  const std::vector<Triple> sorted = grouped_in_order<Triple>(
+      s.vertices,
+      [&mesh](auto&& emit) {
+        for (const Face& face : mesh.faces) {
+          Triple t{face[0], face[1], face[2]};
+          std::sort(t.begin(), t.end());
+          emit(t);
+        }
+      },
+      [](const Triple& t) { return static_cast<std::size_t>(t[0]); });
   for (std::size_t i = 1; i < sorted.size(); ++i) s.duplicate_faces += (sorted[i] == sorted[i - 1]);
   return s;
 }
