@@ -34,7 +34,9 @@ class ClosestTriangleIndex {
   /// For a running maximum of such distances: the squared distance to the nearest triangle
   /// when it is above `bound`, otherwise some value <= bound, so that max(bound, result) is
   /// always max(bound, squared_distance(p)). The search stops at the first triangle within
-  /// `bound` — most often the hint's, without a step into the tree.
+  /// `bound` — most often the hint's, without a step into the tree — and then leaves `hint` at
+  /// a triangle within the bound rather than the nearest (a starting point still: only the
+  /// time depends on it).
   double squared_distance_past(const Vec3& p, std::uint32_t& hint, double bound) const;
 
   /// The same for points[0..n) (close together, e.g. one face's samples in Morton order),

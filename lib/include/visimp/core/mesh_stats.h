@@ -1,6 +1,8 @@
 // analyze(mesh): counts what `visimp info` reports and what the simplifier must respect:
 // components, boundary and non-manifold edges, non-manifold vertices, misoriented edges,
-// degenerate and duplicate faces. Linear time after one sort of the edges.
+// degenerate and duplicate faces. Linear time but for small sorts: half-edges and faces are laid
+// out grouped by their lowest vertex, and each group sorted. Face indices must be below the
+// vertex count (every reader and the Python module check them).
 #pragma once
 
 #include <algorithm>
