@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "visimp/core/errors.h"
+#include "visimp/core/mesh_stats.h"
 #include "visimp/metrics/bounded_hausdorff.h"
 #include "visimp/metrics/image_error.h"
 #include "visimp/metrics/surface_distance.h"
@@ -52,6 +53,16 @@ void print_directed(std::ostream& out, const char* title, const DirectedDistance
     std::snprintf(line, sizeof line, "    %11.5g .. %-11.5g %6.2f%%\n", lo, hi, 100.0 * d.histogram[i]);
     out << line;
   }
+}
+
+// Metro samples and searches faces with area: a mesh whose faces are all degenerate fails here,
+// named, before any B is measured or any error map written.
+void require_area(const Mesh& mesh, const std::string& path) {
+  require_faces(mesh, path, "measure");
+  for (const Face& f : mesh.faces)
+    if (!is_degenerate(mesh, f)) return;
+  throw InvalidMeshError((path == "-" ? std::string("<stdin>") : path) + ": no face with area to measure (" +
+                         std::to_string(mesh.num_faces()) + " faces, all degenerate)");
 }
 
 // Standard input can be read once: at most one of the files may be "-".
@@ -193,18 +204,18 @@ int run_metro(const Args& args) {
     if (!error_png.empty()) refuse_overwriting_inputs(numbered_path(error_png, k, count), paths);
   }
   const Mesh a = read_input(path_a, stream);
-  require_faces(a, path_a, "measure");
+  require_area(a, path_a);
   if (visible) {
     if (a.face_quality.size() != a.num_faces())
       throw InvalidMeshError(path_a + ": --visible needs V as face quality (a 'visimp visibility' output)");
     options.face_visibility = a.face_quality;
   }
-  // Every B read first: a B that cannot be read, or has no face, fails the call before anything
-  // is written.
+  // Every B read first: a B that cannot be read, or has no face with area, fails the call before
+  // anything is written.
   std::vector<Mesh> results;
   for (std::size_t k = 1; k <= count; ++k) {
     results.push_back(read_input(paths[k], stream));
-    require_faces(results.back(), paths[k], "measure");
+    require_area(results.back(), paths[k]);
   }
   // With several B, A's samples and tree are kept between them; one B is one surface_distance(),
   // which frees them before the bound and the pictures (the same numbers either way).

@@ -523,6 +523,16 @@ TEST_F(App, MetroMeasuresSeveralResultsAgainstOneInput) {
             2);
   EXPECT_EQ(test::slurp(dir + "/e_2.ply"), e2_before);
   EXPECT_EQ(run("metro " + bunny + " - -", dir).code, 2);  // standard input read once
+  // A B whose only face has no area fails, named, before the first B's error map is written.
+  Mesh flat;
+  flat.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  flat.faces = {{0, 1, 2}};
+  write_mesh(flat, dir + "/flat.ply");
+  const AppRun degenerate =
+      run("metro " + bunny + " " + dir + "/a.ply " + dir + "/flat.ply --error-ply " + dir + "/d.ply", dir);
+  EXPECT_EQ(degenerate.code, 1);
+  EXPECT_NE(degenerate.err.find("flat.ply: no face with area"), std::string::npos) << degenerate.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/d_1.ply"));
   const AppRun alone = run("metro " + bunny, dir);
   EXPECT_EQ(alone.code, 2);
   EXPECT_NE(alone.err.find("expected at least 2 file argument(s), got 1"), std::string::npos) << alone.err;
