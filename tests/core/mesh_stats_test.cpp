@@ -114,6 +114,7 @@ TEST(MeshStats, EdgeAndDuplicateCountsMatchAPlainCountOnRandomFaces) {
     EXPECT_EQ(s.non_manifold_edges, non_manifold) << round;
     EXPECT_EQ(s.misoriented_edges, misoriented) << round;
     EXPECT_EQ(s.duplicate_faces, duplicates) << round;
+    EXPECT_EQ(surface_area(m), s.area) << round;  // metro --density's area: analyze()'s, to the bit
   }
 }
 

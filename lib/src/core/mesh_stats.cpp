@@ -50,6 +50,19 @@ std::vector<T> grouped_in_order(std::size_t groups, const Each& each, const Grou
 
 }  // namespace
 
+namespace {
+// A face's area; none for a degenerate one (adding 0 leaves a sum's bits as skipping it would).
+double face_area(const Mesh& mesh, const Face& face, bool degenerate) {
+  return degenerate ? 0.0 : 0.5 * norm(face_normal_unnormalized(mesh, face));
+}
+}  // namespace
+
+double surface_area(const Mesh& mesh) {
+  double area = 0;
+  for (const Face& face : mesh.faces) area += face_area(mesh, face, is_degenerate(mesh, face));
+  return area;
+}
+
 MeshStats analyze(const Mesh& mesh) {
   MeshStats s;
   s.vertices = mesh.num_vertices();
@@ -65,10 +78,9 @@ MeshStats analyze(const Mesh& mesh) {
       referenced[face[k]] = 1;
       vertex_sets.unite(face[k], face[(k + 1) % 3]);
     }
-    if (is_degenerate(mesh, face))
-      ++s.degenerate_faces;
-    else
-      s.area += 0.5 * norm(face_normal_unnormalized(mesh, face));
+    const bool degenerate = is_degenerate(mesh, face);
+    s.degenerate_faces += degenerate;
+    s.area += face_area(mesh, face, degenerate);
   }
   // Half-edges in (edge, corner) order, grouped by their lower vertex.
   std::vector<HalfEdgeKey> half_edges = grouped_in_order<HalfEdgeKey>(

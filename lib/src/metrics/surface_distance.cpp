@@ -333,8 +333,7 @@ SurfaceDistance distance_between(const Mesh& a, const Mesh& b, const SurfaceDist
   check_face_visibility(a, options);
   std::size_t count = options.samples ? options.samples : 10 * std::max(a.num_faces(), b.num_faces());
   if (options.density > 0) {
-    const MeshStats sa = analyze(a), sb = analyze(b);
-    count = static_cast<std::size_t>(std::ceil(options.density * std::max(sa.area, sb.area)));
+    count = static_cast<std::size_t>(std::ceil(options.density * std::max(surface_area(a), surface_area(b))));
   }
   const std::size_t edges = options.edge_samples ? options.edge_samples : std::max(a.num_faces(), b.num_faces());
   SurfaceDistance r;

@@ -37,6 +37,9 @@ struct MeshStats {
 
 MeshStats analyze(const Mesh& mesh);
 
+/// analyze(mesh).area alone: the areas of the non-degenerate faces summed in face order.
+double surface_area(const Mesh& mesh);
+
 /// True when the face has a repeated vertex index or (numerically) zero area relative to
 /// its longest edge: such a face has no normal and contributes no plane anywhere in visimp.
 bool is_degenerate(const Mesh& mesh, const Face& f);
