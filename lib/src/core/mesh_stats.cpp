@@ -48,13 +48,11 @@ std::vector<T> grouped_in_order(std::size_t groups, const Each& each, const Grou
   return items;
 }
 
-}  // namespace
-
-namespace {
 // A face's area; none for a degenerate one (adding 0 leaves a sum's bits as skipping it would).
 double face_area(const Mesh& mesh, const Face& face, bool degenerate) {
   return degenerate ? 0.0 : 0.5 * norm(face_normal_unnormalized(mesh, face));
 }
+
 }  // namespace
 
 double surface_area(const Mesh& mesh) {
